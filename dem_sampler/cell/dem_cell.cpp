@@ -1,0 +1,422 @@
+#include "dem_cell.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <stdexcept>
+
+namespace grainbank::dem {
+namespace {
+
+void require_size(std::size_t got, std::size_t expected, const char* what) {
+  if (got == expected) return;
+  std::ostringstream msg;
+  msg << "cell state: " << what << " has " << got << " entries, expected " << expected;
+  throw std::invalid_argument(msg.str());
+}
+
+Vec3 wrapped(Vec3 s) {
+  for (int a = 0; a < 3; ++a) {
+    s[a] -= std::floor(s[a]);
+    if (s[a] >= 1) s[a] = 0;  // floor of a value just below an integer can round up
+  }
+  return s;
+}
+
+}  // namespace
+
+DemCell::DemCell(CellState st, Material material, double skin)
+    : material_(std::move(material)), coef_((check(material_), material_)), skin_(skin) {
+  const std::size_t n = st.radius.size();
+  if (n < 2) throw std::invalid_argument("cell state: a cell needs at least two spheres");
+  if (!(skin > 0) || !std::isfinite(skin))
+    throw std::invalid_argument("skin: expected a positive Verlet skin length");
+  if (!st.h.allFinite() || !(cell_volume(st.h) > 0))
+    throw std::invalid_argument("cell state: cell matrix h must be finite with a non-zero volume");
+  require_size(st.reduced_position.size(), n, "reduced_position");
+  require_size(st.velocity.size(), n, "velocity");
+  require_size(st.angular_velocity.size(), n, "angular_velocity");
+  const bool fresh = st.reduced_position_at_list_build.empty();
+  if (!fresh) {
+    require_size(st.force.size(), n, "force");
+    require_size(st.torque.size(), n, "torque");
+    require_size(st.reduced_position_at_list_build.size(), n, "reduced_position_at_list_build");
+  }
+  if (!fresh) {
+    require_size(st.bonds.size(), material_.effects.bonds ? st.pairs.size() : 0, "bonds");
+    require_size(st.rolling_moment.size(), material_.effects.rolling ? st.pairs.size() : 0, "rolling_moment");
+  }
+  radius_ = std::move(st.radius);
+  mass_.resize(n);
+  inv_mass_.resize(n);
+  inv_inertia_.resize(n);
+  min_mass_ = std::numeric_limits<double>::max();
+  for (std::size_t p = 0; p < n; ++p) {
+    const double r = radius_[p];
+    if (!(r > 0) || !std::isfinite(r)) {
+      std::ostringstream msg;
+      msg << "cell state: radius of sphere " << p << ": expected a positive number, got " << r;
+      throw std::invalid_argument(msg.str());
+    }
+    mass_[p] = material_.density * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    inv_mass_[p] = 1 / mass_[p];
+    inv_inertia_[p] = 1 / (0.4 * mass_[p] * r * r);
+    max_radius_ = std::max(max_radius_, r);
+    min_mass_ = std::min(min_mass_, mass_[p]);
+  }
+  h_ = st.h;
+  h_inv_ = h_.inverse();
+  h_ref_ = st.h_reference;
+  time_ = st.time;
+  s_ = std::move(st.reduced_position);
+  u_ = std::move(st.velocity);
+  omega_ = std::move(st.angular_velocity);
+  initial_bonds_ = st.initial_bond_count;
+  stress_ = st.last_stress;
+  x_.resize(n);
+  if (fresh) {
+    force_.assign(n, Vec3::Zero());
+    torque_.assign(n, Vec3::Zero());
+    rebuild_list();
+    update_positions();
+    compute_forces(true, 0.0);
+  } else {
+    force_ = std::move(st.force);
+    torque_ = std::move(st.torque);
+    pairs_ = std::move(st.pairs);
+    bonds_ = std::move(st.bonds);
+    rolling_ = std::move(st.rolling_moment);
+    h_build_ = st.h_at_list_build;
+    s_build_ = std::move(st.reduced_position_at_list_build);
+    for (const Pair& p : pairs_)
+      if (p.i >= n || p.j >= n || p.i >= p.j || p.image >= kShiftCount)
+        throw std::invalid_argument("cell state: a Verlet pair names a sphere or image that does not exist");
+    update_positions();
+  }
+}
+
+DemCell DemCell::from_packing(const Mat3& h, const std::vector<Vec3>& positions, const std::vector<double>& radii,
+                              const Material& material, double skin) {
+  if (positions.size() != radii.size())
+    throw std::invalid_argument("packing: positions and radii differ in count");
+  CellState st;
+  st.h = h;
+  st.h_reference = h;
+  st.radius = radii;
+  const Mat3 h_inv = h.inverse();
+  for (const Vec3& x : positions) {
+    if (!x.allFinite()) throw std::invalid_argument("packing: a sphere position is not finite");
+    st.reduced_position.push_back(wrapped(h_inv * x));
+  }
+  st.velocity.assign(radii.size(), Vec3::Zero());
+  st.angular_velocity.assign(radii.size(), Vec3::Zero());
+  return DemCell(std::move(st), material, skin);
+}
+
+double DemCell::time_step(double q_t) const { return dem_time_step(q_t, min_mass_, material_.contact.k_n); }
+
+void DemCell::set_friction(double mu) {
+  if (!(mu >= 0) || !std::isfinite(mu)) throw std::invalid_argument("friction: expected a number >= 0");
+  material_.contact.friction = mu;
+  coef_.friction = mu;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Time integration
+
+IncrementResult DemCell::advance(const Mat3& increment, double duration, const Substepping& q) {
+  if (!increment.allFinite() || !(increment.determinant() > 0))
+    throw std::invalid_argument("advance: the deformation increment must be finite with a positive determinant");
+  if (!(q.q_t > 0) || !(q.q_sigma >= 0 && q.q_sigma <= 1))
+    throw std::invalid_argument("advance: expected Q_t > 0 and Q_sigma in [0, 1]");
+  const long n = substep_count(duration, time_step(q.q_t), q.q_n);
+  const double dt = duration / static_cast<double>(n);
+  Mat3 h0 = h_;
+  Mat3 total_change = (increment - Mat3::Identity()) * h0;
+  const double window_start = (1 - q.q_sigma) * duration;
+  StressRegression regression;
+  for (long k = 1; k <= n; ++k) {
+    const IntMat3 m = reduce_if_needed();
+    if (!m.isIdentity()) {
+      h0 = h0 * m.cast<double>();
+      total_change = total_change * m.cast<double>();
+    }
+    const double t = static_cast<double>(k) * dt;
+    const bool measure = k == n || t >= window_start;
+    step_to(h0 + (static_cast<double>(k) / static_cast<double>(n)) * total_change, dt, measure);
+    if (measure) regression.add(t, stress_);
+  }
+  IncrementResult result;
+  result.stress = regression.at(duration);
+  result.substeps = n;
+  result.substep = dt;
+  if (!result.stress.allFinite()) {
+    std::ostringstream msg;
+    msg << "DEM cell diverged at t = " << time_ << " s (non-finite stress) with δt = " << dt
+        << " s: lower Q_t or the macroscopic time step";
+    throw std::runtime_error(msg.str());
+  }
+  return result;
+}
+
+void DemCell::step_with_velocity_gradient(const Mat3& L, double dt) {
+  reduce_if_needed();
+  step_to(h_ + dt * L * h_, dt, true);
+}
+
+void DemCell::step_mixed(const MixedControl& c, double dt) {
+  reduce_if_needed();
+  Mat3 L = c.velocity_gradient;
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (c.stress_controlled(a, b)) {
+        // Too little compression (σ above its tension-positive target) shrinks the cell.
+        const double rate = c.max_rate * (c.target_stress(a, b) - stress_(a, b)) / c.stress_scale;
+        L(a, b) = std::clamp(rate, -c.max_rate, c.max_rate);
+      }
+  step_to(h_ + dt * L * h_, dt, true);
+}
+
+void DemCell::kick(double half_dt, const Mat3& L) {
+  const std::size_t n = radius_.size();
+  if (local_damping_ == 0) {
+    for (std::size_t p = 0; p < n; ++p) {
+      u_[p] += half_dt * (force_[p] * inv_mass_[p] - L * u_[p]);
+      omega_[p] += half_dt * inv_inertia_[p] * torque_[p];
+    }
+    return;
+  }
+  // Cundall local damping: each force component loses α of its magnitude against the motion.
+  const double a = local_damping_;
+  auto damp = [a](const Vec3& f, const Vec3& v) {
+    Vec3 d;
+    for (int k = 0; k < 3; ++k) d[k] = f[k] - a * std::abs(f[k]) * (v[k] > 0 ? 1.0 : (v[k] < 0 ? -1.0 : 0.0));
+    return d;
+  };
+  for (std::size_t p = 0; p < n; ++p) {
+    u_[p] += half_dt * (damp(force_[p], u_[p]) * inv_mass_[p] - L * u_[p]);
+    omega_[p] += half_dt * inv_inertia_[p] * damp(torque_[p], omega_[p]);
+  }
+}
+
+void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
+  const Mat3 hdot = (h_new - h_) / dt;
+  kick(0.5 * dt, hdot * h_inv_);
+  const Mat3 h_mid_inv = (0.5 * (h_ + h_new)).inverse();
+  const std::size_t n = radius_.size();
+  for (std::size_t p = 0; p < n; ++p) s_[p] += dt * (h_mid_inv * u_[p]);
+  h_ = h_new;
+  h_inv_ = h_.inverse();
+  L_ = hdot * h_inv_;
+  time_ += dt;
+  if (list_is_stale()) rebuild_list();
+  update_positions();
+  compute_forces(measure, dt);
+  kick(0.5 * dt, L_);
+  if (measure && material_.effects.kinetic_stress) {
+    Mat3 kinetic = Mat3::Zero();
+    for (std::size_t p = 0; p < n; ++p) kinetic += mass_[p] * u_[p] * u_[p].transpose();
+    stress_ -= kinetic / cell_volume(h_);
+  }
+}
+
+void DemCell::update_positions() {
+  const std::size_t n = radius_.size();
+  for (std::size_t p = 0; p < n; ++p) x_[p] = h_ * s_[p];
+  for (int code = 0; code < kShiftCount; ++code) shift_[code] = h_ * shift_vector(code).cast<double>();
+}
+
+// ---------------------------------------------------------------------------------------------
+// Verlet list and cell flips
+
+bool DemCell::list_is_stale() const {
+  // A pair's separation changes by (h h_b⁻¹ - I) ℓ_b (affine, |ℓ_b| < cut-off) plus the difference of
+  // the two spheres' fluctuation displacements h (s - s_b): rebuild before the sum can exceed the skin.
+  const double cutoff = 2 * max_radius_ + skin_;
+  const double affine = (h_ * h_build_.inverse() - Mat3::Identity()).norm() * cutoff;
+  if (affine >= skin_) return true;
+  const double allowed = 0.5 * (skin_ - affine);
+  const double allowed2 = allowed * allowed;
+  const std::size_t n = radius_.size();
+  for (std::size_t p = 0; p < n; ++p)
+    if ((h_ * (s_[p] - s_build_[p])).squaredNorm() > allowed2) return true;
+  return false;
+}
+
+void DemCell::rebuild_list() {
+  const std::size_t n = radius_.size();
+  for (std::size_t p = 0; p < n; ++p) s_[p] = wrapped(s_[p]);
+  builder_.build(h_, s_, radius_, max_radius_, skin_, scratch_pairs_);
+
+  // Carry the history of surviving pairs (both lists sorted by (i, j)); keep intact bonds that are
+  // stretched beyond the Verlet range.
+  std::vector<Bond> new_bonds(material_.effects.bonds ? scratch_pairs_.size() : 0);
+  std::vector<Vec3> new_rolling(material_.effects.rolling ? scratch_pairs_.size() : 0, Vec3::Zero());
+  auto key = [](const Pair& p) { return (static_cast<std::uint64_t>(p.i) << 32) | p.j; };
+  // A bonded pair that left the Verlet range stays listed, with the image of j closest to i.
+  auto keep_bonded = [&](std::size_t k_old) {
+    Pair kept = pairs_[k_old];
+    Eigen::Vector3i best = Eigen::Vector3i::Zero();
+    double best_d2 = std::numeric_limits<double>::max();
+    for (int code = 0; code < kShiftCount; ++code) {
+      const Eigen::Vector3i img = shift_vector(code);
+      const double d2 = (h_ * (s_[kept.j] + img.cast<double>() - s_[kept.i])).squaredNorm();
+      if (d2 < best_d2) { best_d2 = d2; best = img; }
+    }
+    kept.image = static_cast<std::uint32_t>(shift_code(best));
+    scratch_pairs_.push_back(kept);
+    new_bonds.push_back(bonds_[k_old]);
+    if (!rolling_.empty()) new_rolling.push_back(rolling_[k_old]);
+  };
+  std::size_t k_old = 0;
+  const std::size_t n_new = scratch_pairs_.size();
+  for (std::size_t k = 0; k < n_new; ++k) {
+    Pair& p = scratch_pairs_[k];
+    p.damping = coef_.pair_damping(mass_[p.i], mass_[p.j]);
+    while (k_old < pairs_.size() && key(pairs_[k_old]) < key(p)) {
+      if (!bonds_.empty() && bonds_[k_old].intact) keep_bonded(k_old);
+      ++k_old;
+    }
+    if (k_old < pairs_.size() && key(pairs_[k_old]) == key(p)) {
+      p.ft = pairs_[k_old].ft;
+      if (!bonds_.empty()) new_bonds[k] = bonds_[k_old];
+      if (!rolling_.empty()) new_rolling[k] = rolling_[k_old];
+      ++k_old;
+    }
+  }
+  for (; k_old < pairs_.size(); ++k_old)
+    if (!bonds_.empty() && bonds_[k_old].intact) keep_bonded(k_old);
+  if (scratch_pairs_.size() != n_new) {
+    // Re-sort with the kept bonded pairs in place, permuting the parallel arrays alike.
+    std::vector<std::size_t> order(scratch_pairs_.size());
+    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+    std::sort(order.begin(), order.end(),
+              [&](std::size_t a, std::size_t b) { return key(scratch_pairs_[a]) < key(scratch_pairs_[b]); });
+    std::vector<Pair> sorted_pairs(order.size());
+    std::vector<Bond> sorted_bonds(new_bonds.empty() ? 0 : order.size());
+    std::vector<Vec3> sorted_rolling(new_rolling.empty() ? 0 : order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      sorted_pairs[k] = scratch_pairs_[order[k]];
+      if (!new_bonds.empty()) sorted_bonds[k] = new_bonds[order[k]];
+      if (!new_rolling.empty()) sorted_rolling[k] = new_rolling[order[k]];
+    }
+    scratch_pairs_.swap(sorted_pairs);
+    new_bonds.swap(sorted_bonds);
+    new_rolling.swap(sorted_rolling);
+  }
+  pairs_.swap(scratch_pairs_);
+  bonds_.swap(new_bonds);
+  rolling_.swap(new_rolling);
+  h_build_ = h_;
+  s_build_ = s_;
+  ++list_builds_;
+}
+
+IntMat3 DemCell::reduce_if_needed() {
+  if (!needs_reduction(h_)) return IntMat3::Identity();
+  Mat3 h = h_;
+  const IntMat3 m = reduce_basis(h);
+  const Mat3 md = m.cast<double>();
+  const Mat3 m_inv = md.inverse();  // integer and exact: det M = ±1
+  h_ = h;
+  h_inv_ = h_.inverse();
+  h_ref_ = h_ref_ * md;
+  for (Vec3& s : s_) s = m_inv * s;
+  for (Vec3& s : s_build_) s = m_inv * s;
+  rebuild_list();
+  update_positions();
+  ++flips_;
+  return m;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Bonds, measures, state
+
+std::int64_t DemCell::create_bonds(double bonding_distance) {
+  if (!material_.effects.bonds) throw std::logic_error("create_bonds: the material's bonds effect is off");
+  const double saved_skin = skin_;
+  skin_ = std::max(skin_, 2 * max_radius_ * bonding_distance * 1.001);
+  rebuild_list();
+  skin_ = saved_skin;
+  update_positions();
+  std::int64_t count = 0;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const Pair& p = pairs_[k];
+    const double rsum = radius_[p.i] + radius_[p.j];
+    const double gap = (x_[p.j] - x_[p.i] + shift_[p.image]).norm() - rsum;
+    if (gap < bonding_distance * rsum) {
+      bonds_[k] = Bond{Vec3::Zero(), gap, true};
+      ++count;
+    }
+  }
+  initial_bonds_ = count;
+  return count;
+}
+
+std::size_t DemCell::contact_count() const {
+  std::size_t c = 0;
+  for (const Pair& p : pairs_) {
+    const double rsum = radius_[p.i] + radius_[p.j];
+    if ((x_[p.j] - x_[p.i] + shift_[p.image]).squaredNorm() < rsum * rsum) ++c;
+  }
+  return c;
+}
+
+CellMeasures DemCell::measures() const {
+  CellMeasures m;
+  const std::size_t n = radius_.size();
+  m.time = time_;
+  m.stress = stress_;
+  double solid = 0, net_force = 0;
+  for (std::size_t p = 0; p < n; ++p) {
+    solid += mass_[p] / material_.density;
+    m.kinetic_energy += 0.5 * mass_[p] * u_[p].squaredNorm() + 0.5 * omega_[p].squaredNorm() / inv_inertia_[p];
+    net_force += force_[p].norm();
+  }
+  m.solid_fraction = solid / cell_volume(h_);
+  m.coordination = 2.0 * static_cast<double>(active_pairs_) / static_cast<double>(n);
+  for (const Bond& b : bonds_) m.bonds += b.intact ? 1 : 0;
+  m.damage = initial_bonds_ > 0 ? 1.0 - static_cast<double>(m.bonds) / static_cast<double>(initial_bonds_) : 0.0;
+  m.unbalanced_force_ratio =
+      active_pairs_ > 0 && sum_pair_force_ > 0
+          ? (net_force / static_cast<double>(n)) / (sum_pair_force_ / static_cast<double>(active_pairs_))
+          : 1.0;
+  return m;
+}
+
+std::vector<Vec3> DemCell::positions() const {
+  std::vector<Vec3> x(s_.size());
+  for (std::size_t p = 0; p < s_.size(); ++p) x[p] = h_ * s_[p];
+  return x;
+}
+
+std::size_t DemCell::memory_bytes() const {
+  auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
+  return bytes(radius_) + bytes(mass_) + bytes(inv_mass_) + bytes(inv_inertia_) + bytes(s_) + bytes(u_) +
+         bytes(omega_) + bytes(x_) + bytes(force_) + bytes(torque_) + bytes(pairs_) + bytes(bonds_) +
+         bytes(rolling_) + bytes(s_build_) + bytes(scratch_pairs_);
+}
+
+CellState DemCell::state() const {
+  CellState st;
+  st.h = h_;
+  st.h_reference = h_ref_;
+  st.time = time_;
+  st.radius = radius_;
+  st.reduced_position = s_;
+  st.velocity = u_;
+  st.angular_velocity = omega_;
+  st.force = force_;
+  st.torque = torque_;
+  st.pairs = pairs_;
+  st.bonds = bonds_;
+  st.rolling_moment = rolling_;
+  st.initial_bond_count = initial_bonds_;
+  st.h_at_list_build = h_build_;
+  st.reduced_position_at_list_build = s_build_;
+  st.last_stress = stress_;
+  return st;
+}
+
+}  // namespace grainbank::dem

@@ -1,0 +1,146 @@
+// A tri-periodic cell of bonded frictional spheres driven by its cell matrix: the micro scale of the
+// seed's MPM×DEM method. Owns its particles and interaction history; knows no file format.
+//
+// Kinematics: x = h s. Velocities split into the affine part L x (L = ḣ h⁻¹) and the fluctuation v';
+// when L changes the fluctuation is kept, i.e. the affine change applies to every sphere at once.
+// Fluctuations obey m dv'/dt = f - m L v' (SLLOD), so the work of the cell on the spheres equals
+// V σ:D with σ including the kinetic term. Velocity Verlet for translations and rotations.
+//
+// Stress is tension-positive (MPM convention): σ = -(1/V) (Σ_pairs f ⊗ ℓ + Σ_spheres m v'⊗v'),
+// the second term only when the kinetic-stress effect is on (seed Eq. 2).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "cell_state.hpp"
+#include "interaction_law.hpp"
+#include "material.hpp"
+#include "periodic_cell.hpp"
+#include "substepping.hpp"
+#include "verlet_list.hpp"
+
+namespace grainbank::dem {
+
+struct CellMeasures {
+  double time = 0;
+  Mat3 stress = Mat3::Zero();        // tension-positive [Pa], at the last measured step
+  double solid_fraction = 0;         // φ
+  double coordination = 0;           // Z = 2 × (pairs carrying force) / N
+  std::int64_t bonds = 0;            // N_b
+  double damage = 0;                 // D = 1 - N_b / N_b(0) (seed Eq. 6); 0 without bonds
+  double kinetic_energy = 0;         // of the fluctuations, translational + rotational [J]
+  double unbalanced_force_ratio = 0; // mean |net force on a sphere| / mean |pair force|
+};
+
+// Result of driving the cell through one macroscopic increment.
+struct IncrementResult {
+  Mat3 stress = Mat3::Zero();  // regressed over the last Q_σ of the increment, at its end
+  long substeps = 0;
+  double substep = 0;          // δt actually used: Δt / substeps
+};
+
+// Mixed control for preparation and stand-alone tests: each component of the velocity gradient is
+// either prescribed, or servo-controlled so that the same stress component reaches its target.
+struct MixedControl {
+  Mat3 velocity_gradient = Mat3::Zero();               // prescribed components of L [1/s]
+  Eigen::Matrix<bool, 3, 3> stress_controlled = Eigen::Matrix<bool, 3, 3>::Constant(false);
+  Mat3 target_stress = Mat3::Zero();                   // tension-positive targets [Pa]
+  double stress_scale = 1;   // stress error that drives the cell at max_rate [Pa]
+  double max_rate = 0;       // largest servo strain rate [1/s]
+};
+
+class DemCell {
+ public:
+  // Takes a complete state (see cell_state.hpp). Throws std::invalid_argument on inconsistent sizes
+  // or parameters. `skin` is the Verlet skin [m].
+  DemCell(CellState state, Material material, double skin);
+
+  // Builds a fresh cell: spheres at rest, no history; the Verlet list is built and forces computed.
+  static DemCell from_packing(const Mat3& h, const std::vector<Vec3>& positions, const std::vector<double>& radii,
+                              const Material& material, double skin);
+
+  // Seed Eq. 3 for this cell's lightest sphere.
+  double time_step(double q_t) const;
+
+  // Drives h from its current value h0 to F_inc h0 over `duration`, in n = max(ceil(Δt/δt), Q_n)
+  // steps of exactly Δt/n, and returns the stress regressed over the last Q_σ of the increment.
+  IncrementResult advance(const Mat3& increment, double duration, const Substepping& q);
+
+  // One step with a constant velocity gradient L (ḣ = L h, explicit).
+  void step_with_velocity_gradient(const Mat3& L, double dt);
+
+  // One step under mixed control; the stress is measured at every such step.
+  void step_mixed(const MixedControl& control, double dt);
+
+  // Bonds every pair whose gap is below ε (R_i + R_j), stress-free at creation; sets N_b(0).
+  // Requires the bonds effect. Returns the number of bonds.
+  std::int64_t create_bonds(double bonding_distance);
+
+  // Cundall local damping α ∈ [0,1) for quasi-static relaxation (preparation only; 0 = off).
+  void set_local_damping(double alpha) { local_damping_ = alpha; }
+  // Replaces the friction coefficient (preparation lowers it to control density).
+  void set_friction(double mu);
+
+  CellMeasures measures() const;
+  const Mat3& cell_matrix() const { return h_; }
+  Mat3 deformation_gradient() const { return h_ * h_ref_.inverse(); }
+  double volume() const { return cell_volume(h_); }
+  double time() const { return time_; }
+  std::size_t size() const { return radius_.size(); }
+  std::size_t pair_count() const { return pairs_.size(); }
+  std::size_t contact_count() const;           // pairs with overlap
+  std::int64_t flips() const { return flips_; }
+  std::int64_t list_builds() const { return list_builds_; }
+  const Material& material() const { return material_; }
+  double skin() const { return skin_; }
+  // Real positions x = h s (s as stored, not wrapped).
+  std::vector<Vec3> positions() const;
+  const std::vector<double>& radii() const { return radius_; }
+  const std::vector<Vec3>& velocities() const { return u_; }
+  // Bytes held by the cell's arrays (for memory reports).
+  std::size_t memory_bytes() const;
+
+  CellState state() const;
+
+ private:
+  template <bool Bonds, bool Rolling, bool Measure>
+  void compute_forces(double dt);
+  void compute_forces(bool measure, double dt);
+  // Moves to h_new over dt (constant ḣ); measures stress when asked.
+  void step_to(const Mat3& h_new, double dt, bool measure);
+  void update_positions();
+  bool list_is_stale() const;
+  void rebuild_list();
+  // Flips to a reduced basis if due; returns M (identity if nothing changed).
+  IntMat3 reduce_if_needed();
+  void kick(double half_dt, const Mat3& L);
+
+  Material material_;
+  InteractionCoefficients coef_;
+  double skin_;
+  double max_radius_ = 0, min_mass_ = 0;
+  double local_damping_ = 0;
+
+  Mat3 h_, h_inv_, h_ref_, L_ = Mat3::Zero();
+  double time_ = 0;
+  std::vector<double> radius_, mass_, inv_mass_, inv_inertia_;
+  std::vector<Vec3> s_, u_, omega_, x_, force_, torque_;
+  std::vector<Pair> pairs_;
+  std::vector<Bond> bonds_;             // empty unless bonds are on
+  std::vector<Vec3> rolling_;           // empty unless rolling is on
+  std::int64_t initial_bonds_ = 0;
+  Vec3 shift_[kShiftCount];             // h n for every image code
+
+  Mat3 h_build_;
+  std::vector<Vec3> s_build_;
+  VerletListBuilder builder_;
+  std::vector<Pair> scratch_pairs_;
+  std::int64_t flips_ = 0, list_builds_ = 0;
+
+  // Accumulated by a measuring force evaluation.
+  Mat3 stress_ = Mat3::Zero();
+  double sum_pair_force_ = 0;
+  std::int64_t active_pairs_ = 0;
+};
+
+}  // namespace grainbank::dem

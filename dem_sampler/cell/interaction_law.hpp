@@ -1,0 +1,111 @@
+// The interaction law between two spheres i and j: frictional visco-elastic contact in parallel
+// with an elastic-brittle bond, as in seed Fig. 1 ("omitting bond damage"). All of the force law
+// lives here; dem_cell_forces.cpp only gathers geometry and scatters the results.
+//
+// Conventions: n is the unit vector from i to j, gap d_n = |ℓ| - R_i - R_j (< 0: overlap), forces
+// are those exerted on j (i receives the opposite), a positive normal force pushes j away from i.
+// "slip" is the tangential relative displacement of the contact point during the step, v_t δt.
+#pragma once
+#include <cmath>
+
+#include "cell_state.hpp"
+#include "material.hpp"
+
+namespace grainbank::dem {
+
+// Stiffness split and strengths, derived once from a Material.
+struct InteractionCoefficients {
+  double kn_contact = 0, kt_contact = 0;  // w_c k_n, w_c k_t
+  double friction = 0;                    // μ
+  double kn_bond = 0, kt_bond = 0;        // w_b k_n, w_b k_t with w_b = 1 - w_c
+  double inv_tensile_strength = 0, inv_shear_strength = 0, exponent = 2;
+  double rolling_stiffness = 0, rolling_friction = 0;
+  double damping_ratio = 0;               // ζ from the restitution coefficient
+
+  explicit InteractionCoefficients(const Material& m)
+      : kn_contact(m.contact.contact_weight * m.contact.k_n),
+        kt_contact(m.contact.contact_weight * m.contact.k_t),
+        friction(m.contact.friction),
+        kn_bond((1 - m.contact.contact_weight) * m.contact.k_n),
+        kt_bond((1 - m.contact.contact_weight) * m.contact.k_t),
+        inv_tensile_strength(m.effects.bonds ? 1 / m.bond.tensile_strength : 0),
+        inv_shear_strength(m.effects.bonds ? 1 / m.bond.shear_strength : 0),
+        exponent(m.bond.exponent),
+        rolling_stiffness(m.rolling.stiffness),
+        rolling_friction(m.rolling.friction),
+        damping_ratio(damping_ratio_from_restitution(m.contact.restitution)) {}
+
+  // Normal dashpot c_n = 2 ζ sqrt(m_ij w_c k_n), m_ij = m_i m_j / (m_i + m_j): a contact of this pair
+  // alone rebounds with the material's restitution coefficient e_n.
+  double pair_damping(double m_i, double m_j) const {
+    return 2 * damping_ratio * std::sqrt(m_i * m_j / (m_i + m_j) * kn_contact);
+  }
+};
+
+// Objectivity of tangential history: bring t back into the plane normal to n, keeping its length,
+// so that a rigid rotation of the pair does not load the spring.
+inline void rotate_into_tangent_plane(Vec3& t, const Vec3& n) {
+  const double before = t.squaredNorm();
+  if (before == 0) return;
+  t -= t.dot(n) * n;
+  const double after = t.squaredNorm();
+  if (after > 0) t *= std::sqrt(before / after);
+}
+
+// Contact, normal part (seed Fig. 1a): f_c = -w_c k_n d_n - c_n v_n, for d_n < 0.
+// The dashpot is not clipped, so an isolated collision has exactly the restitution coefficient e_n.
+inline double contact_normal_force(const InteractionCoefficients& c, double gap, double normal_velocity,
+                                   double damping) {
+  return -c.kn_contact * gap - damping * normal_velocity;
+}
+
+// Contact, tangential part (seed Fig. 1b): incremental spring f_t <- R(f_t) - w_c k_t v_t δt,
+// capped by Coulomb |f_t| <= μ f_n.
+inline void update_friction(const InteractionCoefficients& c, const Vec3& n, const Vec3& slip,
+                            double normal_force, Vec3& ft) {
+  rotate_into_tangent_plane(ft, n);
+  ft -= c.kt_contact * slip;
+  const double cap = c.friction * std::max(normal_force, 0.0);
+  const double f2 = ft.squaredNorm();
+  if (f2 > cap * cap) ft *= cap / std::sqrt(f2);
+}
+
+// Bond yield function Φ = T/T_0 + (S/S_0)^p - 1 (seed Fig. 1 bottom), T the tension (> 0 pulled),
+// S the magnitude of the bond shear force.
+inline double bond_yield(const InteractionCoefficients& c, double tension, double shear) {
+  const double s = shear * c.inv_shear_strength;
+  const double sp = c.exponent == 2 ? s * s : std::pow(s, c.exponent);
+  return tension * c.inv_tensile_strength + sp - 1;
+}
+
+// Bond (seed Fig. 1a,b, red): normal -w_b k_n (d_n - g_0) in tension and compression ("canceling
+// u_n^0"), shear -w_b k_t u_b with u_b the total tangential displacement since bonding.
+// Elastic-brittle: when the trial forces reach Φ >= 0 the bond breaks and carries nothing from this
+// step on; the contact law alone then acts on the pair (seed Fig. 1 bottom, force jumps).
+// Returns whether the bond is still intact; if so its forces are added to fn and ft.
+inline bool add_bond_force(const InteractionCoefficients& c, Bond& bond, double gap, const Vec3& n,
+                           const Vec3& slip, double& fn, Vec3& ft) {
+  rotate_into_tangent_plane(bond.shear_displacement, n);
+  bond.shear_displacement += slip;
+  const double tension = c.kn_bond * (gap - bond.rest_gap);
+  const double shear = c.kt_bond * bond.shear_displacement.norm();
+  if (bond_yield(c, tension, shear) >= 0) {
+    bond.intact = false;
+    return false;
+  }
+  fn -= tension;
+  ft -= c.kt_bond * bond.shear_displacement;
+  return true;
+}
+
+// Rolling resistance (optional): incremental moment M <- M - k_r (ω_j - ω_i) δt, capped by
+// μ_r R_ij f_n with R_ij = R_i R_j / (R_i + R_j). Returns the moment acting on j.
+inline void update_rolling_moment(const InteractionCoefficients& c, const Vec3& relative_rotation,
+                                  double radius_ij, double normal_force, Vec3& moment) {
+  moment -= c.rolling_stiffness * relative_rotation;
+  const double cap = c.rolling_friction * radius_ij * std::max(normal_force, 0.0);
+  const double m2 = moment.squaredNorm();
+  if (m2 > cap * cap) moment *= cap / std::sqrt(m2);
+}
+
+}  // namespace grainbank::dem

@@ -1,0 +1,61 @@
+// How a periodic cell is driven through one macroscopic (MPM) increment: the time-step rule of seed
+// Eq. 3 and the stress regression of seed Fig. 3.
+#pragma once
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "types.hpp"
+
+namespace grainbank::dem {
+
+struct Substepping {
+  double q_t = 0.1;      // Q_t: δt = Q_t π sqrt(m_min / k_n)
+  int q_n = 1;           // Q_n: at least this many DEM steps per increment
+  double q_sigma = 0.2;  // Q_σ: regress the stress over this last fraction of the increment
+};
+
+// Seed Eq. 3 (the seed prints sqrt(k_n/m); dimensionally the step is a fraction of the contact
+// half-period): δt = Q_t π sqrt(m_min / k_n).
+inline double dem_time_step(double q_t, double min_mass, double k_n) {
+  return q_t * std::numbers::pi * std::sqrt(min_mass / k_n);
+}
+
+// n = max(ceil(Δt/δt), Q_n) steps of exactly Δt/n: the cell receives exactly the macroscopic
+// increment, never up to one δt more.
+inline long substep_count(double increment_duration, double dem_step, int q_n) {
+  if (!(increment_duration > 0) || !(dem_step > 0))
+    throw std::invalid_argument("substep_count: durations must be positive");
+  const double n = std::ceil(increment_duration / dem_step * (1 - 1e-12));
+  return std::max(static_cast<long>(n), static_cast<long>(std::max(q_n, 1)));
+}
+
+// Least-squares line through (t_k, σ_k) for each stress component, evaluated at a given time
+// (seed Fig. 3). Per call state only: every driven cell owns its own.
+class StressRegression {
+ public:
+  void add(double t, const Mat3& stress) {
+    ++count_;
+    sum_t_ += t;
+    sum_tt_ += t * t;
+    sum_s_ += stress;
+    sum_ts_ += t * stress;
+    last_ = stress;
+  }
+  int count() const { return count_; }
+  Mat3 at(double t) const {
+    if (count_ < 2) return last_;
+    const double n = count_, denom = n * sum_tt_ - sum_t_ * sum_t_;
+    if (denom <= 0) return last_;
+    const Mat3 slope = (n * sum_ts_ - sum_t_ * sum_s_) / denom;
+    const Mat3 intercept = (sum_s_ - slope * sum_t_) / n;
+    return intercept + slope * t;
+  }
+
+ private:
+  int count_ = 0;
+  double sum_t_ = 0, sum_tt_ = 0;
+  Mat3 sum_s_ = Mat3::Zero(), sum_ts_ = Mat3::Zero(), last_ = Mat3::Zero();
+};
+
+}  // namespace grainbank::dem
