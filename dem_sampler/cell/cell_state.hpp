@@ -41,6 +41,8 @@ struct CellState {
   Mat3 h_at_list_build = Mat3::Identity();  // Verlet bookkeeping: h and s at the last rebuild
   std::vector<Vec3> reduced_position_at_list_build;
   Mat3 last_stress = Mat3::Zero();          // tension-positive, at the last measured step
+  std::int64_t last_active_pairs = 0;       // pairs carrying force, at the last measured step
+  double last_pair_force_sum = 0;           // Σ |pair force|, at the last measured step
 };
 
 }  // namespace grainbank::dem

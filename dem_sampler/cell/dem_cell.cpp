@@ -74,6 +74,8 @@ DemCell::DemCell(CellState st, Material material, double skin)
   omega_ = std::move(st.angular_velocity);
   initial_bonds_ = st.initial_bond_count;
   stress_ = st.last_stress;
+  active_pairs_ = st.last_active_pairs;
+  sum_pair_force_ = st.last_pair_force_sum;
   x_.resize(n);
   if (fresh) {
     force_.assign(n, Vec3::Zero());
@@ -416,6 +418,8 @@ CellState DemCell::state() const {
   st.h_at_list_build = h_build_;
   st.reduced_position_at_list_build = s_build_;
   st.last_stress = stress_;
+  st.last_active_pairs = active_pairs_;
+  st.last_pair_force_sum = sum_pair_force_;
   return st;
 }
 

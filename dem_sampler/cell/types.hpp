@@ -1,6 +1,7 @@
 // Small fixed-size tensor types shared by the DEM cell. SI units, double precision.
 #pragma once
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <Eigen/LU>
 
 namespace grainbank::dem {
