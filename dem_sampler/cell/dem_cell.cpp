@@ -180,43 +180,71 @@ void DemCell::step_mixed(const MixedControl& c, double dt) {
   step_to(h_ + dt * L * h_, dt, true);
 }
 
+namespace {
+// Cundall local damping (preparation only): each component of a force or torque loses α of its
+// magnitude against the motion, so quasi-static relaxation converges faster.
+Vec3 locally_damped(const Vec3& f, const Vec3& v, double alpha) {
+  Vec3 d;
+  for (int k = 0; k < 3; ++k) d[k] = f[k] - alpha * std::abs(f[k]) * (v[k] > 0 ? 1.0 : (v[k] < 0 ? -1.0 : 0.0));
+  return d;
+}
+}  // namespace
+
+template <bool Damped>
+double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new) {
+  const double half_dt = 0.5 * dt;
+  double max_displacement2 = 0;
+  const std::size_t n = radius_.size();
+  for (std::size_t p = 0; p < n; ++p) {
+    Vec3 f = force_[p], torque = torque_[p];
+    if constexpr (Damped) {
+      f = locally_damped(f, u_[p], local_damping_);
+      torque = locally_damped(torque, omega_[p], local_damping_);
+    }
+    u_[p] += half_dt * (f * inv_mass_[p] - L * u_[p]);
+    omega_[p] += half_dt * inv_inertia_[p] * torque;
+    s_[p] += dt * (h_mid_inv * u_[p]);
+    x_[p] = h_new * s_[p];
+    max_displacement2 = std::max(max_displacement2, (x_[p] - h_new * s_build_[p]).squaredNorm());
+  }
+  return max_displacement2;
+}
+
+template <bool Damped>
 void DemCell::kick(double half_dt, const Mat3& L) {
   const std::size_t n = radius_.size();
-  if (local_damping_ == 0) {
-    for (std::size_t p = 0; p < n; ++p) {
-      u_[p] += half_dt * (force_[p] * inv_mass_[p] - L * u_[p]);
-      omega_[p] += half_dt * inv_inertia_[p] * torque_[p];
-    }
-    return;
-  }
-  // Cundall local damping: each force component loses α of its magnitude against the motion.
-  const double a = local_damping_;
-  auto damp = [a](const Vec3& f, const Vec3& v) {
-    Vec3 d;
-    for (int k = 0; k < 3; ++k) d[k] = f[k] - a * std::abs(f[k]) * (v[k] > 0 ? 1.0 : (v[k] < 0 ? -1.0 : 0.0));
-    return d;
-  };
   for (std::size_t p = 0; p < n; ++p) {
-    u_[p] += half_dt * (damp(force_[p], u_[p]) * inv_mass_[p] - L * u_[p]);
-    omega_[p] += half_dt * inv_inertia_[p] * damp(torque_[p], omega_[p]);
+    Vec3 f = force_[p], torque = torque_[p];
+    if constexpr (Damped) {
+      f = locally_damped(f, u_[p], local_damping_);
+      torque = locally_damped(torque, omega_[p], local_damping_);
+    }
+    u_[p] += half_dt * (f * inv_mass_[p] - L * u_[p]);
+    omega_[p] += half_dt * inv_inertia_[p] * torque;
   }
 }
 
 void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
   const Mat3 hdot = (h_new - h_) / dt;
-  kick(0.5 * dt, hdot * h_inv_);
+  const Mat3 L_start = hdot * h_inv_;
   const Mat3 h_mid_inv = (0.5 * (h_ + h_new)).inverse();
-  const std::size_t n = radius_.size();
-  for (std::size_t p = 0; p < n; ++p) s_[p] += dt * (h_mid_inv * u_[p]);
+  const double max_displacement2 = local_damping_ > 0 ? kick_and_drift<true>(dt, L_start, h_mid_inv, h_new)
+                                                      : kick_and_drift<false>(dt, L_start, h_mid_inv, h_new);
   h_ = h_new;
   h_inv_ = h_.inverse();
   L_ = hdot * h_inv_;
   time_ += dt;
-  if (list_is_stale()) rebuild_list();
-  update_positions();
+  if (list_is_stale(max_displacement2)) {
+    rebuild_list();
+    update_positions();
+  } else {
+    update_shifts();
+  }
   compute_forces(measure, dt);
-  kick(0.5 * dt, L_);
+  if (local_damping_ > 0) kick<true>(0.5 * dt, L_);
+  else kick<false>(0.5 * dt, L_);
   if (measure && material_.effects.kinetic_stress) {
+    const std::size_t n = radius_.size();
     Mat3 kinetic = Mat3::Zero();
     for (std::size_t p = 0; p < n; ++p) kinetic += mass_[p] * u_[p] * u_[p].transpose();
     stress_ -= kinetic / cell_volume(h_);
@@ -226,24 +254,24 @@ void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
 void DemCell::update_positions() {
   const std::size_t n = radius_.size();
   for (std::size_t p = 0; p < n; ++p) x_[p] = h_ * s_[p];
+  update_shifts();
+}
+
+void DemCell::update_shifts() {
   for (int code = 0; code < kShiftCount; ++code) shift_[code] = h_ * shift_vector(code).cast<double>();
 }
 
 // ---------------------------------------------------------------------------------------------
 // Verlet list and cell flips
 
-bool DemCell::list_is_stale() const {
+bool DemCell::list_is_stale(double max_displacement2) const {
   // A pair's separation changes by (h h_b⁻¹ - I) ℓ_b (affine, |ℓ_b| < cut-off) plus the difference of
   // the two spheres' fluctuation displacements h (s - s_b): rebuild before the sum can exceed the skin.
   const double cutoff = 2 * max_radius_ + skin_;
   const double affine = (h_ * h_build_.inverse() - Mat3::Identity()).norm() * cutoff;
   if (affine >= skin_) return true;
   const double allowed = 0.5 * (skin_ - affine);
-  const double allowed2 = allowed * allowed;
-  const std::size_t n = radius_.size();
-  for (std::size_t p = 0; p < n; ++p)
-    if ((h_ * (s_[p] - s_build_[p])).squaredNorm() > allowed2) return true;
-  return false;
+  return max_displacement2 > allowed * allowed;
 }
 
 void DemCell::rebuild_list() {

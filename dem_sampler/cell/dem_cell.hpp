@@ -109,10 +109,17 @@ class DemCell {
   // Moves to h_new over dt (constant ḣ); measures stress when asked.
   void step_to(const Mat3& h_new, double dt, bool measure);
   void update_positions();
-  bool list_is_stale() const;
+  void update_shifts();
+  // max_displacement2: largest squared fluctuation displacement since the last rebuild.
+  bool list_is_stale(double max_displacement2) const;
   void rebuild_list();
   // Flips to a reduced basis if due; returns M (identity if nothing changed).
   IntMat3 reduce_if_needed();
+  // Velocity Verlet halves: first kick + drift (returns the largest squared fluctuation displacement
+  // since the last list build), and the closing kick. Damped = Cundall local damping on.
+  template <bool Damped>
+  double kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new);
+  template <bool Damped>
   void kick(double half_dt, const Mat3& L);
 
   Material material_;

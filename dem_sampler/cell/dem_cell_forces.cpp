@@ -24,7 +24,8 @@ void DemCell::compute_forces(double dt) {
     bool bonded = false;
     if constexpr (Bonds) bonded = bonds_[k].intact;
     if (!touching && !bonded) {
-      p.ft.setZero();
+      // Contact lost: forget its history (written only when there is some, to spare memory traffic).
+      if (p.ft[0] != 0 || p.ft[1] != 0 || p.ft[2] != 0) p.ft.setZero();
       if constexpr (Rolling) rolling_[k].setZero();
       continue;
     }

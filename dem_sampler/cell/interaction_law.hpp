@@ -43,13 +43,14 @@ struct InteractionCoefficients {
 };
 
 // Objectivity of tangential history: bring t back into the plane normal to n, keeping its length,
-// so that a rigid rotation of the pair does not load the spring.
+// so that a rigid rotation of the pair does not load the spring. Per step the normal turns by a tiny
+// angle θ, so the length factor (1 - x)^(-1/2), x = (t·n)²/|t|² ~ θ², is taken from its series.
 inline void rotate_into_tangent_plane(Vec3& t, const Vec3& n) {
-  const double before = t.squaredNorm();
-  if (before == 0) return;
-  t -= t.dot(n) * n;
-  const double after = t.squaredNorm();
-  if (after > 0) t *= std::sqrt(before / after);
+  const double tn = t.dot(n);
+  if (tn == 0) return;
+  const double x = tn * tn / t.squaredNorm();
+  t -= tn * n;
+  t *= x < 1e-4 ? 1 + x * (0.5 + 0.375 * x) : 1 / std::sqrt(std::max(1 - x, 1e-300));
 }
 
 // Contact, normal part (seed Fig. 1a): f_c = -w_c k_n d_n - c_n v_n, for d_n < 0.
