@@ -1,5 +1,7 @@
 #include "dem_cell.hpp"
 
+#include "matrix_functions.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <numbers>
@@ -134,19 +136,19 @@ IncrementResult DemCell::advance(const Mat3& increment, double duration, const S
     throw std::invalid_argument("advance: expected Q_t > 0 and Q_sigma in [0, 1]");
   const long n = substep_count(duration, time_step(q.q_t), q.q_n);
   const double dt = duration / static_cast<double>(n);
+  // Constant velocity gradient over the increment, h(t) = exp(t G) h0 with G = log F_inc: a rotation
+  // stays a rotation at every sub-step, and the last sub-step lands on F_inc h0 exactly.
+  const Mat3 log_increment = matrix_logarithm(increment);
   Mat3 h0 = h_;
-  Mat3 total_change = (increment - Mat3::Identity()) * h0;
   const double window_start = (1 - q.q_sigma) * duration;
   StressRegression regression;
   for (long k = 1; k <= n; ++k) {
-    const IntMat3 m = reduce_if_needed();
-    if (!m.isIdentity()) {
-      h0 = h0 * m.cast<double>();
-      total_change = total_change * m.cast<double>();
-    }
+    h0 = h0 * reduce_if_needed().cast<double>();
+    const double fraction = static_cast<double>(k) / static_cast<double>(n);
+    const Mat3 h_next = k == n ? Mat3(increment * h0) : Mat3(matrix_exponential(fraction * log_increment) * h0);
     const double t = static_cast<double>(k) * dt;
     const bool measure = k == n || t >= window_start;
-    step_to(h0 + (static_cast<double>(k) / static_cast<double>(n)) * total_change, dt, measure);
+    step_to(h_next, dt, measure);
     if (measure) regression.add(t, stress_);
   }
   IncrementResult result;
@@ -193,6 +195,7 @@ Vec3 locally_damped(const Vec3& f, const Vec3& v, double alpha) {
 template <bool Damped>
 double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new) {
   const double half_dt = 0.5 * dt;
+  const Mat3 Lt = L.transpose();
   double max_displacement2 = 0;
   const std::size_t n = radius_.size();
   for (std::size_t p = 0; p < n; ++p) {
@@ -201,7 +204,7 @@ double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, 
       f = locally_damped(f, u_[p], local_damping_);
       torque = locally_damped(torque, omega_[p], local_damping_);
     }
-    u_[p] += half_dt * (f * inv_mass_[p] - L * u_[p]);
+    u_[p] += half_dt * (f * inv_mass_[p] - Lt * u_[p]);
     omega_[p] += half_dt * inv_inertia_[p] * torque;
     s_[p] += dt * (h_mid_inv * u_[p]);
     x_[p] = h_new * s_[p];
@@ -212,6 +215,7 @@ double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, 
 
 template <bool Damped>
 void DemCell::kick(double half_dt, const Mat3& L) {
+  const Mat3 Lt = L.transpose();
   const std::size_t n = radius_.size();
   for (std::size_t p = 0; p < n; ++p) {
     Vec3 f = force_[p], torque = torque_[p];
@@ -219,7 +223,7 @@ void DemCell::kick(double half_dt, const Mat3& L) {
       f = locally_damped(f, u_[p], local_damping_);
       torque = locally_damped(torque, omega_[p], local_damping_);
     }
-    u_[p] += half_dt * (f * inv_mass_[p] - L * u_[p]);
+    u_[p] += half_dt * (f * inv_mass_[p] - Lt * u_[p]);
     omega_[p] += half_dt * inv_inertia_[p] * torque;
   }
 }
@@ -279,35 +283,21 @@ void DemCell::rebuild_list() {
   for (std::size_t p = 0; p < n; ++p) s_[p] = wrapped(s_[p]);
   builder_.build(h_, s_, radius_, max_radius_, skin_, scratch_pairs_);
 
-  // Carry the history of surviving pairs (both lists sorted by (i, j)); keep intact bonds that are
-  // stretched beyond the Verlet range.
+  // Carry the history of surviving pairs (both lists sorted by (i, j)). Intact bonds stretched beyond
+  // the Verlet range stay listed, with the image of j closest to i; they are collected apart and
+  // merged afterwards so the new list is not reallocated while it is walked.
   std::vector<Bond> new_bonds(material_.effects.bonds ? scratch_pairs_.size() : 0);
   std::vector<Vec3> new_rolling(material_.effects.rolling ? scratch_pairs_.size() : 0, Vec3::Zero());
+  std::vector<std::size_t> kept;  // indices into the old list
   auto key = [](const Pair& p) { return (static_cast<std::uint64_t>(p.i) << 32) | p.j; };
-  // A bonded pair that left the Verlet range stays listed, with the image of j closest to i.
-  auto keep_bonded = [&](std::size_t k_old) {
-    Pair kept = pairs_[k_old];
-    Eigen::Vector3i best = Eigen::Vector3i::Zero();
-    double best_d2 = std::numeric_limits<double>::max();
-    for (int code = 0; code < kShiftCount; ++code) {
-      const Eigen::Vector3i img = shift_vector(code);
-      const double d2 = (h_ * (s_[kept.j] + img.cast<double>() - s_[kept.i])).squaredNorm();
-      if (d2 < best_d2) { best_d2 = d2; best = img; }
-    }
-    kept.image = static_cast<std::uint32_t>(shift_code(best));
-    scratch_pairs_.push_back(kept);
-    new_bonds.push_back(bonds_[k_old]);
-    if (!rolling_.empty()) new_rolling.push_back(rolling_[k_old]);
+  auto keep_if_bonded = [&](std::size_t k_old) {
+    if (!bonds_.empty() && bonds_[k_old].intact) kept.push_back(k_old);
   };
   std::size_t k_old = 0;
-  const std::size_t n_new = scratch_pairs_.size();
-  for (std::size_t k = 0; k < n_new; ++k) {
+  for (std::size_t k = 0; k < scratch_pairs_.size(); ++k) {
     Pair& p = scratch_pairs_[k];
     p.damping = coef_.pair_damping(mass_[p.i], mass_[p.j]);
-    while (k_old < pairs_.size() && key(pairs_[k_old]) < key(p)) {
-      if (!bonds_.empty() && bonds_[k_old].intact) keep_bonded(k_old);
-      ++k_old;
-    }
+    for (; k_old < pairs_.size() && key(pairs_[k_old]) < key(p); ++k_old) keep_if_bonded(k_old);
     if (k_old < pairs_.size() && key(pairs_[k_old]) == key(p)) {
       p.ft = pairs_[k_old].ft;
       if (!bonds_.empty()) new_bonds[k] = bonds_[k_old];
@@ -315,25 +305,31 @@ void DemCell::rebuild_list() {
       ++k_old;
     }
   }
-  for (; k_old < pairs_.size(); ++k_old)
-    if (!bonds_.empty() && bonds_[k_old].intact) keep_bonded(k_old);
-  if (scratch_pairs_.size() != n_new) {
-    // Re-sort with the kept bonded pairs in place, permuting the parallel arrays alike.
-    std::vector<std::size_t> order(scratch_pairs_.size());
-    for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
-    std::sort(order.begin(), order.end(),
-              [&](std::size_t a, std::size_t b) { return key(scratch_pairs_[a]) < key(scratch_pairs_[b]); });
-    std::vector<Pair> sorted_pairs(order.size());
-    std::vector<Bond> sorted_bonds(new_bonds.empty() ? 0 : order.size());
-    std::vector<Vec3> sorted_rolling(new_rolling.empty() ? 0 : order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) {
-      sorted_pairs[k] = scratch_pairs_[order[k]];
-      if (!new_bonds.empty()) sorted_bonds[k] = new_bonds[order[k]];
-      if (!new_rolling.empty()) sorted_rolling[k] = new_rolling[order[k]];
+  for (; k_old < pairs_.size(); ++k_old) keep_if_bonded(k_old);
+  if (!kept.empty()) {
+    std::vector<Pair> merged;
+    std::vector<Bond> merged_bonds;
+    std::vector<Vec3> merged_rolling;
+    merged.reserve(scratch_pairs_.size() + kept.size());
+    std::size_t a = 0;
+    auto take_new = [&] {
+      merged.push_back(scratch_pairs_[a]);
+      merged_bonds.push_back(new_bonds[a]);
+      if (!new_rolling.empty()) merged_rolling.push_back(new_rolling[a]);
+      ++a;
+    };
+    for (std::size_t k_kept : kept) {
+      Pair out_of_range = pairs_[k_kept];
+      out_of_range.image = static_cast<std::uint32_t>(closest_image(out_of_range.i, out_of_range.j));
+      while (a < scratch_pairs_.size() && key(scratch_pairs_[a]) < key(out_of_range)) take_new();
+      merged.push_back(out_of_range);
+      merged_bonds.push_back(bonds_[k_kept]);
+      if (!new_rolling.empty()) merged_rolling.push_back(rolling_[k_kept]);
     }
-    scratch_pairs_.swap(sorted_pairs);
-    new_bonds.swap(sorted_bonds);
-    new_rolling.swap(sorted_rolling);
+    while (a < scratch_pairs_.size()) take_new();
+    scratch_pairs_.swap(merged);
+    new_bonds.swap(merged_bonds);
+    new_rolling.swap(merged_rolling);
   }
   pairs_.swap(scratch_pairs_);
   bonds_.swap(new_bonds);
@@ -341,6 +337,19 @@ void DemCell::rebuild_list() {
   h_build_ = h_;
   s_build_ = s_;
   ++list_builds_;
+}
+
+int DemCell::closest_image(std::uint32_t i, std::uint32_t j) const {
+  int best = kNoShift;
+  double best_d2 = std::numeric_limits<double>::max();
+  for (int code = 0; code < kShiftCount; ++code) {
+    const double d2 = (h_ * (s_[j] + shift_vector(code).cast<double>() - s_[i])).squaredNorm();
+    if (d2 < best_d2) {
+      best_d2 = d2;
+      best = code;
+    }
+  }
+  return best;
 }
 
 IntMat3 DemCell::reduce_if_needed() {

@@ -3,8 +3,11 @@
 //
 // Kinematics: x = h s. Velocities split into the affine part L x (L = ḣ h⁻¹) and the fluctuation v';
 // when L changes the fluctuation is kept, i.e. the affine change applies to every sphere at once.
-// Fluctuations obey m dv'/dt = f - m L v' (SLLOD), so the work of the cell on the spheres equals
-// V σ:D with σ including the kinetic term. Velocity Verlet for translations and rotations.
+// Fluctuations obey m dv'/dt = f - m Lᵀ v' = f - m (D - W) v': the stretching D exchanges exactly
+// V σ_kinetic : D with the fluctuations (as SLLOD), while the spin W only turns them with the cell, so
+// a rigidly rotated cell behaves as the unrotated one (objectivity; SLLOD's -W v' is a Coriolis term).
+// The macroscopic acceleration of the affine field is the MPM's business, not the cell's.
+// Velocity Verlet for translations and rotations.
 //
 // Stress is tension-positive (MPM convention): σ = -(1/V) (Σ_pairs f ⊗ ℓ + Σ_spheres m v'⊗v'),
 // the second term only when the kinetic-stress effect is on (seed Eq. 2).
@@ -62,8 +65,9 @@ class DemCell {
   // Seed Eq. 3 for this cell's lightest sphere.
   double time_step(double q_t) const;
 
-  // Drives h from its current value h0 to F_inc h0 over `duration`, in n = max(ceil(Δt/δt), Q_n)
-  // steps of exactly Δt/n, and returns the stress regressed over the last Q_σ of the increment.
+  // Drives h from its current value h0 to F_inc h0 over `duration` at the constant velocity gradient
+  // log(F_inc)/Δt, in n = max(ceil(Δt/δt), Q_n) steps of exactly Δt/n, and returns the stress
+  // regressed over the last Q_σ of the increment. F_inc needs det > 0 and no rotation by π.
   IncrementResult advance(const Mat3& increment, double duration, const Substepping& q);
 
   // One step with a constant velocity gradient L (ḣ = L h, explicit).
@@ -113,6 +117,8 @@ class DemCell {
   // max_displacement2: largest squared fluctuation displacement since the last rebuild.
   bool list_is_stale(double max_displacement2) const;
   void rebuild_list();
+  // Shift code of the periodic image of j nearest to i.
+  int closest_image(std::uint32_t i, std::uint32_t j) const;
   // Flips to a reduced basis if due; returns M (identity if nothing changed).
   IntMat3 reduce_if_needed();
   // Velocity Verlet halves: first kick + drift (returns the largest squared fluctuation displacement

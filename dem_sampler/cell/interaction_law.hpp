@@ -4,7 +4,10 @@
 //
 // Conventions: n is the unit vector from i to j, gap d_n = |ℓ| - R_i - R_j (< 0: overlap), forces
 // are those exerted on j (i receives the opposite), a positive normal force pushes j away from i.
-// "slip" is the tangential relative displacement of the contact point during the step, v_t δt.
+// The contact point sits mid-gap, at R_i + d_n/2 from i and R_j + d_n/2 from j (these lever arms add
+// up to |ℓ|, so a rigidly rotating pair does not slip). "slip" is the tangential relative
+// displacement of the contact point during the step, v_t δt; "twist" the pair's mean spin about n
+// times δt.
 #pragma once
 #include <cmath>
 
@@ -42,15 +45,17 @@ struct InteractionCoefficients {
   }
 };
 
-// Objectivity of tangential history: bring t back into the plane normal to n, keeping its length,
-// so that a rigid rotation of the pair does not load the spring. Per step the normal turns by a tiny
-// angle θ, so the length factor (1 - x)^(-1/2), x = (t·n)²/|t|² ~ θ², is taken from its series.
-inline void rotate_into_tangent_plane(Vec3& t, const Vec3& n) {
-  const double tn = t.dot(n);
-  if (tn == 0) return;
-  const double x = tn * tn / t.squaredNorm();
-  t -= tn * n;
-  t *= x < 1e-4 ? 1 + x * (0.5 + 0.375 * x) : 1 / std::sqrt(std::max(1 - x, 1e-300));
+// Objectivity of tangential history (a tangential spring force or bond shear displacement): turn t
+// with the contact frame, i.e. bring it back into the plane normal to the new n and twist it about n
+// by the pair's mean spin, (ω_i + ω_j)·n δt / 2, keeping its length. A rigid rotation of the pair
+// then carries t along without loading it. Per step the frame turns by a tiny angle, so the length
+// factor (1 - x)^(-1/2) is taken from its series.
+inline void rotate_with_contact_frame(Vec3& t, const Vec3& n, double twist) {
+  const double before = t.squaredNorm();
+  if (before == 0) return;
+  t += twist * n.cross(t) - t.dot(n) * n;
+  const double x = 1 - t.squaredNorm() / before;
+  t *= std::abs(x) < 1e-4 ? 1 + x * (0.5 + 0.375 * x) : 1 / std::sqrt(std::max(1 - x, 1e-300));
 }
 
 // Contact, normal part (seed Fig. 1a): f_c = -w_c k_n d_n - c_n v_n, for d_n < 0.
@@ -62,9 +67,9 @@ inline double contact_normal_force(const InteractionCoefficients& c, double gap,
 
 // Contact, tangential part (seed Fig. 1b): incremental spring f_t <- R(f_t) - w_c k_t v_t δt,
 // capped by Coulomb |f_t| <= μ f_n.
-inline void update_friction(const InteractionCoefficients& c, const Vec3& n, const Vec3& slip,
+inline void update_friction(const InteractionCoefficients& c, const Vec3& n, double twist, const Vec3& slip,
                             double normal_force, Vec3& ft) {
-  rotate_into_tangent_plane(ft, n);
+  rotate_with_contact_frame(ft, n, twist);
   ft -= c.kt_contact * slip;
   const double cap = c.friction * std::max(normal_force, 0.0);
   const double f2 = ft.squaredNorm();
@@ -85,8 +90,8 @@ inline double bond_yield(const InteractionCoefficients& c, double tension, doubl
 // step on; the contact law alone then acts on the pair (seed Fig. 1 bottom, force jumps).
 // Returns whether the bond is still intact; if so its forces are added to fn and ft.
 inline bool add_bond_force(const InteractionCoefficients& c, Bond& bond, double gap, const Vec3& n,
-                           const Vec3& slip, double& fn, Vec3& ft) {
-  rotate_into_tangent_plane(bond.shear_displacement, n);
+                           double twist, const Vec3& slip, double& fn, Vec3& ft) {
+  rotate_with_contact_frame(bond.shear_displacement, n, twist);
   bond.shear_displacement += slip;
   const double tension = c.kn_bond * (gap - bond.rest_gap);
   const double shear = c.kt_bond * bond.shear_displacement.norm();
