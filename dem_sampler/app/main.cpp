@@ -4,11 +4,24 @@
 #include <nlohmann/json.hpp>
 
 #include "benchmark_cell.hpp"
+#include "run_command.hpp"
 
 int main(int argc, char** argv) {
   using namespace grainbank::app;
   CLI::App app{"dem_sampler: periodic DEM cells driven along strain-rate paths"};
   app.require_subcommand(1);
+
+  RunOptions run;
+  std::string run_out;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "Prepare (or load) the cell of CELL.json, drive it along PATH.json and tabulate t, F, ln det F, "
+             "stress (tension-positive, Pa), p, q, phi, Z, N_b, D, kinetic energy");
+  run_cmd->add_option("cell", run.cell_file, "CELL.json: material, effects, and preparation or packing file")
+      ->required();
+  run_cmd->add_option("--path", run.path_file, "PATH.json: segments of in-plane velocity gradient, record interval")
+      ->required();
+  run_cmd->add_option("--out", run_out, "write the table as CSV to this file instead of printing it");
+  run_cmd->add_flag("--progress", run.progress, "report preparation and path progress on stderr");
 
   BenchmarkOptions bench;
   bool bench_json = false;
@@ -19,8 +32,21 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--seed", bench.seed, "seed of the random gas");
   bench_cmd->add_flag("--json", bench_json, "print a JSON object instead of text");
 
-  CLI11_PARSE(app, argc, argv);
   try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "dem_sampler: " << e.what() << " (see dem_sampler --help)\n";
+    return 1;
+  }
+  try {
+    if (*run_cmd) {
+      if (!run_out.empty()) run.out_file = run_out;
+      run_path_command(run);
+    }
     if (*bench_cmd) {
       const BenchmarkResult r = run_benchmark(bench);
       if (bench_json) {

@@ -1,0 +1,27 @@
+// Drives a cell along a path the way a material point of the MPM would: per record interval Δt the
+// cell receives the increment F_inc = exp(L Δt) and returns the regressed stress of that increment.
+#pragma once
+#include <functional>
+
+#include "cell/dem_cell.hpp"
+#include "path_input.hpp"
+
+namespace grainbank::app {
+
+struct PathRecord {
+  long index = 0;         // 0 for the state before the first increment
+  double time = 0;        // cell time [s]
+  dem::Mat3 F;            // deformation gradient since the cell's reference configuration
+  dem::Mat3 stress;       // tension-positive [Pa]; regressed over the last Q_σ of the increment
+  dem::CellMeasures measures;
+};
+
+// Increments of the whole path: each segment takes ceil(duration / Δt) of them, the last one of a
+// segment shortened so the segment ends exactly at its duration.
+long increment_count(const PathSpec& path);
+
+// Calls `on_record` with the initial state and after every increment. Engine errors propagate.
+void drive_along_path(dem::DemCell& cell, const PathSpec& path,
+                      const std::function<void(const PathRecord&)>& on_record);
+
+}  // namespace grainbank::app

@@ -1,0 +1,30 @@
+// PATH.json: a strain-rate path for one cell, as a list of segments of constant in-plane velocity
+// gradient, recorded every `record_interval` (the macroscopic, MPM-like increment). The schema is
+// documented in README.md ("path.json").
+#pragma once
+#include <filesystem>
+#include <vector>
+
+#include "cell/substepping.hpp"
+#include "cell/types.hpp"
+
+namespace grainbank::app {
+
+struct PathSegment {
+  dem::Mat3 L = dem::Mat3::Zero();  // plane strain: the z row and column are zero [1/s]
+  double duration = 0;              // [s], always > 0 (a strain target is converted on reading)
+};
+
+struct PathSpec {
+  std::vector<PathSegment> segments;  // at least one
+  double record_interval = 0;         // Δt [s]
+  dem::Substepping substepping;       // Q_t, Q_n, Q_σ
+};
+
+// Throws common::InputError naming the file and the JSON path of the first problem.
+PathSpec load_path(const std::filesystem::path& file);
+
+// ||sym(L)|| (Frobenius): the strain rate that turns a segment's "strain" into a duration.
+double strain_rate_norm(const dem::Mat3& L);
+
+}  // namespace grainbank::app

@@ -1,0 +1,67 @@
+#!/usr/bin/env bash
+# grainbank in two commands:
+#   ./run.sh demo   install what is missing, build, prepare a small cohesive cell and shear it
+#   ./run.sh test   install what is missing, build, run the test suite and a benchmark smoke run
+# Safe to run again: it installs only missing packages and rebuilds only what changed.
+# GRAINBANK_BUILD_DIR overrides the build directory (default: build).
+set -euo pipefail
+export DEBIAN_FRONTEND=noninteractive
+
+cd "$(dirname "$0")"
+readonly BUILD_DIR="${GRAINBANK_BUILD_DIR:-build}"
+readonly PACKAGES=(cmake g++ make libeigen3-dev libhdf5-dev libsqlite3-dev sqlite3 nlohmann-json3-dev libgtest-dev
+                   libnanoflann-dev libcli11-dev libbenchmark-dev libopenmpi-dev hdf5-tools)
+
+usage() {
+  echo "usage: $0 demo|test" >&2
+  exit 2
+}
+
+missing_packages() {
+  local pkg
+  for pkg in "${PACKAGES[@]}"; do
+    dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q "install ok installed" || echo "$pkg"
+  done
+}
+
+ensure_packages() {
+  if ! command -v dpkg-query >/dev/null; then
+    echo "run.sh: not a Debian system; install the equivalents of: ${PACKAGES[*]}" >&2
+    command -v cmake >/dev/null || exit 1
+    return
+  fi
+  local missing
+  missing=$(missing_packages | tr '\n' ' ')
+  [[ -z "$missing" ]] && return
+  if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null; then
+    echo "run.sh: installing $missing" >&2
+    apt-get update -q
+    # shellcheck disable=SC2086  # one word per package
+    apt-get install -y -q --no-install-recommends $missing
+  else
+    echo "run.sh: missing packages; install them with:" >&2
+    echo "  sudo apt-get update && sudo apt-get install -y $missing" >&2
+    exit 1
+  fi
+}
+
+build() {
+  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
+  cmake --build "$BUILD_DIR" --parallel "$(nproc)"
+}
+
+[[ $# -eq 1 ]] || usage
+case "$1" in
+  demo)
+    ensure_packages
+    build
+    "$BUILD_DIR/dem_sampler/dem_sampler" run workflows/demo/cell.json --path workflows/demo/shear.json
+    ;;
+  test)
+    ensure_packages
+    build
+    ctest --test-dir "$BUILD_DIR" --output-on-failure --parallel "$(nproc)"
+    "$BUILD_DIR/dem_sampler/dem_sampler" bench --steps 300
+    ;;
+  *) usage ;;
+esac
