@@ -1,0 +1,104 @@
+#include "material_parameters.hpp"
+
+#include <bit>
+#include <cstdint>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+namespace grainbank::db {
+namespace {
+
+// The single list of parameters: JSON, hash and differences all walk it, so none can forget one.
+template <class M, class Visit>
+void visit_parameters(M& m, Visit visit) {
+  visit("density", m.density);
+  visit("contact.k_n", m.contact.k_n);
+  visit("contact.k_t", m.contact.k_t);
+  visit("contact.restitution", m.contact.restitution);
+  visit("contact.friction", m.contact.friction);
+  visit("contact.contact_weight", m.contact.contact_weight);
+  visit("bond.tensile_strength", m.bond.tensile_strength);
+  visit("bond.shear_strength", m.bond.shear_strength);
+  visit("bond.exponent", m.bond.exponent);
+  visit("bond.bonding_distance", m.bond.bonding_distance);
+  visit("rolling.stiffness", m.rolling.stiffness);
+  visit("rolling.friction", m.rolling.friction);
+  visit("effects.bonds", m.effects.bonds);
+  visit("effects.kinetic_stress", m.effects.kinetic_stress);
+  visit("effects.rolling", m.effects.rolling);
+}
+
+nlohmann::json::json_pointer pointer(const std::string& dotted) {
+  std::string path = "/" + dotted;
+  for (char& c : path)
+    if (c == '.') c = '/';
+  return nlohmann::json::json_pointer(path);
+}
+
+std::uint64_t fnv1a(const void* data, std::size_t size, std::uint64_t hash = 14695981039346656037ull) {
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t k = 0; k < size; ++k) hash = (hash ^ bytes[k]) * 1099511628211ull;
+  return hash;
+}
+
+std::string hex16(std::uint64_t value) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(value));
+  return text;
+}
+
+template <class T>
+std::string to_text(const T& value) {
+  std::ostringstream out;
+  out.precision(17);
+  out << std::boolalpha << value;
+  return out.str();
+}
+
+}  // namespace
+
+nlohmann::json material_to_json(const dem::Material& material) {
+  nlohmann::json json = nlohmann::json::object();
+  visit_parameters(material, [&](const char* name, const auto& value) { json[pointer(name)] = value; });
+  return json;
+}
+
+dem::Material material_from_json(const nlohmann::json& json) {
+  dem::Material material;
+  visit_parameters(material, [&](const char* name, auto& value) {
+    const auto p = pointer(name);
+    if (!json.contains(p)) throw std::invalid_argument(std::string("material: missing parameter ") + name);
+    value = json.at(p).get<std::remove_reference_t<decltype(value)>>();
+  });
+  return material;
+}
+
+std::string parameter_hash(const dem::Material& material) {
+  std::uint64_t hash = fnv1a("grainbank-material-v1", 21);
+  visit_parameters(material, [&](const char* name, const auto& value) {
+    hash = fnv1a(name, std::char_traits<char>::length(name), hash);
+    const double as_double = static_cast<double>(value);
+    const auto bits = std::bit_cast<std::uint64_t>(as_double);
+    hash = fnv1a(&bits, sizeof bits, hash);
+  });
+  return hex16(hash);
+}
+
+std::vector<std::string> material_differences(const dem::Material& library, const dem::Material& given) {
+  std::vector<std::string> library_values, given_values, names;
+  visit_parameters(library, [&](const char* name, const auto& value) {
+    names.emplace_back(name);
+    library_values.push_back(to_text(value));
+  });
+  visit_parameters(given, [&](const char*, const auto& value) { given_values.push_back(to_text(value)); });
+  std::vector<std::string> differences;
+  for (std::size_t k = 0; k < names.size(); ++k)
+    if (library_values[k] != given_values[k])
+      differences.push_back(names[k] + ": library " + library_values[k] + ", given " + given_values[k]);
+  return differences;
+}
+
+std::string text_hash(const std::string& text) { return hex16(fnv1a(text.data(), text.size())); }
+
+}  // namespace grainbank::db
