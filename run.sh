@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # grainbank in two commands:
 #   ./run.sh demo   install what is missing, build, prepare a small cohesive cell and shear it
-#   ./run.sh test   install what is missing, build, run the test suite and a benchmark smoke run
+#   ./run.sh test   install what is missing, build, run the test suite (benchmarks as smoke tests)
 # Safe to run again: it installs only missing packages and rebuilds only what changed.
 # GRAINBANK_BUILD_DIR overrides the build directory (default: build).
 set -euo pipefail
@@ -61,7 +61,6 @@ case "$1" in
     ensure_packages
     build
     ctest --test-dir "$BUILD_DIR" --output-on-failure --parallel "$(nproc)"
-    "$BUILD_DIR/dem_sampler/dem_sampler" bench --steps 300
     ;;
   *) usage ;;
 esac
