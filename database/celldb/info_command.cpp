@@ -2,6 +2,7 @@
 
 #include <iomanip>
 
+#include "lookup/key_coverage.hpp"
 #include "store/library.hpp"
 
 namespace grainbank::celldb {
@@ -60,6 +61,13 @@ nlohmann::json library_info(const std::filesystem::path& dir) {
     shards.push_back({{"name", row.name}, {"file", row.file}, {"writer", row.writer}, {"bytes", bytes}});
   }
   info["shards"] = shards;
+  const lookup::KeyCoverage coverage = lookup::key_coverage(library);
+  nlohmann::json ranges = nlohmann::json::object();
+  const nlohmann::json components = info["key_definition"]["components"];
+  for (std::size_t c = 0; c < components.size() && c < db::kKeySize; ++c)
+    ranges[components[c].get<std::string>()] = {coverage.min[c], coverage.max[c]};
+  info["key_coverage"] = {{"records", coverage.records}, {"occupied_unit_cells", coverage.occupied_cells},
+                          {"range", ranges}};
   info["bytes"] = {{"catalogue", catalogue_bytes}, {"shards", shard_bytes}, {"total", catalogue_bytes + shard_bytes}};
   return info;
 }
@@ -88,6 +96,12 @@ int run_info(const InfoOptions& options, std::ostream& out) {
   for (const auto& shard : info["shards"])
     out << "  " << shard["file"].get<std::string>() << "  " << human_bytes(shard["bytes"].get<double>()) << "  (writer "
         << shard["writer"].get<std::string>() << ")\n";
+  const auto& coverage = info["key_coverage"];
+  out << "key coverage    " << coverage["records"] << " records of done paths in " << coverage["occupied_unit_cells"]
+      << " unit cells of the key space; ranges (key units):\n";
+  for (const auto& [component, range] : coverage["range"].items())
+    out << "  " << std::left << std::setw(10) << component << " [" << range[0].get<double>() << ", "
+        << range[1].get<double>() << "]\n";
   out << "size            catalogue " << human_bytes(info["bytes"]["catalogue"].get<double>()) << ", shards "
       << human_bytes(info["bytes"]["shards"].get<double>()) << "\n";
   return 0;

@@ -1,4 +1,5 @@
-// `celldb info LIB [--json]`: what a library holds (counts, sizes, material, key definition).
+// `celldb info LIB [--json]`: what a library holds (counts, sizes, material, key definition) and how
+// much of the key space its done paths cover (lookup/key_coverage.hpp).
 #pragma once
 #include <filesystem>
 #include <ostream>

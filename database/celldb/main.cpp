@@ -1,9 +1,14 @@
 // celldb: inspect and maintain a grainbank cell library (DESIGN.md, "Strain-rate paths and the
-// library"). Exit codes: 0 success, 1 the library needs attention (verify), 2 error.
+// library", "Nearest-state lookup"). Exit codes: 0 success, 1 the library needs attention (verify)
+// or cannot answer (query on an empty library), 2 error.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "celldb/bench_command.hpp"
+#include "celldb/export_command.hpp"
 #include "celldb/info_command.hpp"
+#include "celldb/merge_command.hpp"
+#include "celldb/query_command.hpp"
 #include "celldb/verify_command.hpp"
 
 int main(int argc, char** argv) {
@@ -12,7 +17,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
 
   InfoOptions info;
-  CLI::App* info_cmd = app.add_subcommand("info", "Counts, sizes, material and state-key definition of a library");
+  CLI::App* info_cmd =
+      app.add_subcommand("info", "Counts, sizes, material, state-key definition and key-space coverage of a library");
   info_cmd->add_option("LIB", info.library, "Library directory")->required();
   info_cmd->add_flag("--json", info.json, "Print the summary as JSON");
 
@@ -23,10 +29,44 @@ int main(int argc, char** argv) {
   verify_cmd->add_flag("--repair", verify.repair, "Remove orphans (stop every writer of the library first)");
   verify_cmd->add_flag("--json", verify.json, "Print the report as JSON");
 
+  QueryOptions query;
+  CLI::App* query_cmd = app.add_subcommand("query", "Nearest-state answer (stress, distance, hit, estimated error)");
+  query_cmd->add_option("LIB", query.library, "Library directory")->required();
+  query_cmd->add_option("--state", query.state, R"(JSON text or file: {"F": [[..],[..]], "L": [[..],[..]], "D": 0})")
+      ->required();
+  query_cmd->add_option("--k", query.lookup.k, "Neighbours blended")->capture_default_str()->check(CLI::PositiveNumber);
+  query_cmd->add_option("--tolerance", query.lookup.tolerance, "Hit when the nearest record is this close (key units)")
+      ->capture_default_str();
+  query_cmd->add_flag("--json", query.json, "Print the answer as JSON");
+
+  MergeOptions merge;
+  CLI::App* merge_cmd = app.add_subcommand("merge", "Add the done paths of other libraries or of their shards");
+  merge_cmd->add_option("LIB", merge.library, "Target library directory")->required();
+  merge_cmd->add_option("SHARD_OR_LIB", merge.sources, "Source library directories or LIB2/shards/<name>.h5")
+      ->required();
+
+  ExportOptions export_options;
+  CLI::App* export_cmd = app.add_subcommand("export", "Committed records as CSV, one file per path");
+  export_cmd->add_option("LIB", export_options.library, "Library directory")->required();
+  export_cmd->add_option("--csv", export_options.csv_directory, "Output directory")->required();
+
+  BenchOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "Lookup, insert and open timings on a synthetic library");
+  bench_cmd->add_option("--records", bench.records, "Records in the synthetic library")->capture_default_str();
+  bench_cmd->add_option("--k", bench.k, "Neighbours per query")->capture_default_str();
+  bench_cmd->add_option("--queries", bench.queries, "kd-tree queries timed")->capture_default_str();
+  bench_cmd->add_option("--brute-queries", bench.brute_queries, "Brute-force queries timed")->capture_default_str();
+  bench_cmd->add_flag("--uniform", bench.uniform, "Uniformly random states instead of paths");
+  bench_cmd->add_flag("--json", bench.json, "Print the figures as JSON");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*info_cmd) return run_info(info, std::cout);
-    return run_verify(verify, std::cout);
+    if (*verify_cmd) return run_verify(verify, std::cout);
+    if (*query_cmd) return run_query(query, std::cout);
+    if (*merge_cmd) return run_merge(merge, std::cout);
+    if (*export_cmd) return run_export(export_options, std::cout);
+    return run_bench(bench, std::cout);
   } catch (const std::exception& e) {
     std::cerr << "celldb: error: " << e.what() << "\n";
     return 2;

@@ -49,6 +49,34 @@ Object file_access() {
   return fapl;
 }
 
+bool open_in_this_process(const std::filesystem::path& file) {
+  const ssize_t count = H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_FILE);
+  if (count <= 0) return false;
+  std::vector<hid_t> ids(static_cast<std::size_t>(count));
+  const ssize_t listed = H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_FILE, ids.size(), ids.data());
+  for (ssize_t k = 0; k < listed; ++k) {
+    char name[4096];
+    std::error_code ignored;
+    if (H5Fget_name(ids[static_cast<std::size_t>(k)], name, sizeof name) > 0 &&
+        std::filesystem::equivalent(name, file, ignored))
+      return true;
+  }
+  return false;
+}
+
+// Readers must neither block the shard's writer nor fail while it writes, but HDF5 1.10 refuses both
+// ways: by a file lock, and by the "open for write" flag a writer sets in the superblock. Readers
+// take no lock and ignore the flag in their in-memory copy of the superblock (the property h5clear
+// uses; the file is not touched). This is safe because readers follow committed rows only, which
+// the writer flushed before committing and never changes afterwards. (A file this process already
+// has open is shared by HDF5, which then insists on the settings it was opened with.)
+void allow_concurrent_writer(const Object& fapl) {
+  if (H5Pset_file_locking(fapl.id(), false, true) < 0) fapl.fail("cannot disable file locking");
+  hbool_t ignore_write_flag = true;
+  if (H5Pset(fapl.id(), "clear_status_flags", &ignore_write_flag) < 0)
+    fapl.fail("cannot set clear_status_flags");
+}
+
 }  // namespace
 
 Object::Object(hid_t id, herr_t (*close)(hid_t), std::filesystem::path file, std::string name)
@@ -73,6 +101,7 @@ Object create_file(const std::filesystem::path& file) {
 Object open_file(const std::filesystem::path& file, bool writable) {
   if (!std::filesystem::exists(file)) throw StoreError(file, "shard file is missing");
   const Object fapl = file_access();
+  if (!writable && !open_in_this_process(file)) allow_concurrent_writer(fapl);
   const hid_t id = H5Fopen(file.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.id());
   return file_object(id, file, "not a readable HDF5 shard (truncated, corrupt, or open for writing elsewhere)");
 }

@@ -40,6 +40,7 @@ class Object {
 // than misread). Opening refuses foreign files and truncated ones (HDF5 compares the file size with
 // the end of data it recorded).
 Object create_file(const std::filesystem::path& file);
+// Read-only opens take no file lock: readers never block the one writer of a shard.
 Object open_file(const std::filesystem::path& file, bool writable);
 void flush(const Object& file);
 

@@ -3,7 +3,9 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <algorithm>
 #include <chrono>
+#include <thread>
 #include <utility>
 
 #include "material_parameters.hpp"
@@ -33,6 +35,23 @@ std::string fresh_token() {
   static std::atomic<std::uint64_t> counter{0};
   const auto now = std::chrono::steady_clock::now().time_since_epoch().count();
   return text_hash(host_and_pid() + "/" + std::to_string(now) + "/" + std::to_string(counter++));
+}
+
+// Reads committed data of a shard, retrying when the read fails. Readers take no file lock
+// (hdf5_handle.hpp), so one may open a shard while its writer is in the middle of a flush and find
+// the file momentarily inconsistent ("truncated file", a chunk checksum error). HDF5's checksums
+// detect that rather than misread it, and the committed rows themselves never change, so reading
+// again a moment later succeeds. A shard that is really damaged still fails, after ~0.3 s.
+template <class Read>
+auto read_committed(Read&& read) {
+  for (int attempt = 0;; ++attempt) {
+    try {
+      return read();
+    } catch (const StoreError&) {
+      if (attempt == 9) throw;
+      std::this_thread::sleep_for(std::chrono::milliseconds(std::min(1 << attempt, 50)));
+    }
+  }
 }
 
 }  // namespace
@@ -114,17 +133,20 @@ Shard Library::open_shard(std::int64_t shard_id, bool writable) {
 std::vector<Record> Library::records(std::int64_t path_id) {
   const PathRow path = catalogue_.path(path_id);
   if (!path.shard_id || path.record_count == 0) return {};
-  return open_shard(*path.shard_id, false).read_records(path_id, 0, static_cast<std::uint64_t>(path.record_count));
+  return read_committed([&] {
+    return open_shard(*path.shard_id, false).read_records(path_id, 0, static_cast<std::uint64_t>(path.record_count));
+  });
 }
 
 StoredCell Library::template_cell(std::int64_t template_id) {
   const TemplateRow row = catalogue_.template_row(template_id);
-  return open_shard(row.shard_id, false).read_cell(row.hdf5_group);
+  return read_committed([&] { return open_shard(row.shard_id, false).read_cell(row.hdf5_group); });
 }
 
 StoredCell Library::snapshot_cell(std::int64_t path_id, std::int64_t record_index) {
   for (const SnapshotRow& row : catalogue_.snapshots_of(path_id))
-    if (row.record_index == record_index) return open_shard(row.shard_id, false).read_cell(row.hdf5_group);
+    if (row.record_index == record_index)
+      return read_committed([&] { return open_shard(row.shard_id, false).read_cell(row.hdf5_group); });
   throw StoreError(catalogue_.file(), "path " + std::to_string(path_id) + " has no snapshot at record " +
                                           std::to_string(record_index));
 }

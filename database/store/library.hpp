@@ -43,7 +43,8 @@ class Library {
   // A pending path on a template; `spec` is the path's JSON (its hash is stored with it).
   std::int64_t add_path(std::int64_t template_id, const nlohmann::json& spec, const dem::Material& material);
 
-  // Committed data only.
+  // Committed data only. Safe while other processes write the library: a read that meets a shard in
+  // the middle of its writer's flush is retried (library.cpp), so readers never block writers.
   std::vector<Record> records(std::int64_t path_id);
   StoredCell template_cell(std::int64_t template_id);
   StoredCell snapshot_cell(std::int64_t path_id, std::int64_t record_index);

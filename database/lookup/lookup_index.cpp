@@ -1,0 +1,179 @@
+#include "lookup_index.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "key_block.hpp"
+#include "state_key.hpp"
+#include "store/library.hpp"
+
+namespace grainbank::lookup {
+
+// The index as queries see it: immutable blocks, shared between successive snapshots.
+struct IndexSnapshot {
+  std::vector<std::shared_ptr<const KeyBlock>> blocks;  // sizes non-increasing
+  std::size_t size = 0;
+};
+
+namespace {
+
+// Records closer than this (in key units) count as the same state: their answer is exact.
+constexpr double kSameState = 1e-12;
+
+void atomic_max(std::atomic<double>& target, double value) {
+  double current = target.load(std::memory_order_relaxed);
+  while (value > current && !target.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
+  }
+}
+
+// Logarithmic method (Bentley-Saxe): a new block is merged with its predecessors while they are not
+// more than twice its size, so block sizes roughly double from the newest to the oldest.
+std::shared_ptr<const IndexSnapshot> with_block(const IndexSnapshot& old, std::vector<IndexedRecord> records) {
+  auto next = std::make_shared<IndexSnapshot>(old);
+  next->size += records.size();
+  while (!next->blocks.empty() && next->blocks.back()->size() <= 2 * records.size()) {
+    const auto& merged = next->blocks.back()->records();
+    records.insert(records.end(), merged.begin(), merged.end());
+    next->blocks.pop_back();
+  }
+  next->blocks.push_back(std::make_shared<const KeyBlock>(std::move(records)));
+  return next;
+}
+
+IndexedRecord indexed_record(const db::Record& r, const RecordRef& origin, const db::KeyScales& scales) {
+  const PolarDecomposition polar = polar_decomposition(r.F);
+  return {state_key(polar, r.L, r.damage, scales),
+          db::to_stress6(to_material_frame(db::from_stress6(r.stress), polar.R)), origin};
+}
+
+}  // namespace
+
+LookupIndex::LookupIndex(const db::KeyScales& scales) : scales_(scales), snapshot_(std::make_shared<const IndexSnapshot>()) {
+  if (!(scales.strain > 0 && scales.rate > 0 && scales.damage > 0))
+    throw std::invalid_argument("lookup index: key scales must be positive");
+}
+
+LookupIndex::~LookupIndex() = default;
+
+std::size_t LookupIndex::size() const { return snapshot_.load()->size; }
+
+void LookupIndex::insert(std::int64_t path_id, std::int64_t first_index, const std::vector<db::Record>& records) {
+  if (records.empty()) return;
+  std::vector<IndexedRecord> indexed;
+  indexed.reserve(records.size());
+  for (std::size_t i = 0; i < records.size(); ++i)
+    indexed.push_back(indexed_record(records[i], {path_id, first_index + static_cast<std::int64_t>(i)}, scales_));
+  const std::lock_guard lock(writer_);
+  snapshot_.store(with_block(*snapshot_.load(), std::move(indexed)));
+}
+
+std::size_t LookupIndex::refresh(db::Library& library) {
+  // One block for everything new: a bulk load builds a single kd-tree, not one per path.
+  std::vector<IndexedRecord> indexed;
+  std::vector<std::int64_t> paths;
+  {
+    const std::lock_guard lock(writer_);
+    for (const db::PathRow& path : library.catalogue().paths()) {
+      if (path.status != db::PathStatus::done || path.record_count == 0 || indexed_paths_.contains(path.id)) continue;
+      const std::vector<db::Record> records = library.records(path.id);
+      for (std::size_t i = 0; i < records.size(); ++i) indexed.push_back(indexed_record(records[i], {path.id, static_cast<std::int64_t>(i)}, scales_));
+      paths.push_back(path.id);
+    }
+  }
+  const std::size_t added = indexed.size();
+  const std::lock_guard lock(writer_);
+  if (added > 0) snapshot_.store(with_block(*snapshot_.load(), std::move(indexed)));
+  indexed_paths_.insert(paths.begin(), paths.end());
+  return added;
+}
+
+LookupAnswer LookupIndex::query(const LookupState& state, const LookupOptions& options) const {
+  const LookupAnswer result = answer(state, options, false);
+  count(result);
+  return result;
+}
+
+LookupAnswer LookupIndex::query_brute_force(const LookupState& state, const LookupOptions& options) const {
+  return answer(state, options, true);
+}
+
+LookupAnswer LookupIndex::answer(const LookupState& state, const LookupOptions& options, bool brute_force) const {
+  if (options.k == 0) throw std::invalid_argument("lookup query: k must be at least 1");
+  const PolarDecomposition polar = polar_decomposition(state.F);
+  const db::StateKey key = state_key(polar, state.L, state.damage, scales_);
+  const std::shared_ptr<const IndexSnapshot> snapshot = snapshot_.load();
+
+  std::vector<Candidate> candidates;
+  candidates.reserve(options.k * (snapshot->blocks.size() + 1) + 64);
+  for (const auto& block : snapshot->blocks) {
+    if (brute_force)
+      block->nearest_brute_force(key, options.k, candidates);
+    else
+      block->nearest(key, options.k, candidates);
+  }
+  const std::size_t n = std::min(options.k, candidates.size());
+  std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(n), candidates.end(),
+                    [](const Candidate& a, const Candidate& b) { return a.distance2 < b.distance2; });
+
+  LookupAnswer result;
+  result.neighbours = n;
+  if (n == 0) return result;
+  result.distance = std::sqrt(candidates[0].distance2);
+  result.hit = result.distance <= options.tolerance;
+  result.nearest = candidates[0].block->record(candidates[0].row).origin;
+
+  // 1/d² weights; when the nearest record is the query's own state, only same-state records count.
+  const bool exact = result.distance <= kSameState;
+  std::vector<double> weights(n);
+  double weight_sum = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double d = std::sqrt(candidates[i].distance2);
+    weights[i] = exact ? (d <= kSameState ? 1.0 : 0.0) : 1.0 / candidates[i].distance2;
+    weight_sum += weights[i];
+  }
+  dem::Mat3 blended = dem::Mat3::Zero();
+  for (std::size_t i = 0; i < n; ++i)
+    blended += weights[i] / weight_sum *
+               db::from_stress6(candidates[i].block->record(candidates[i].row).material_stress);
+  double spread2 = 0;
+  for (std::size_t i = 0; i < n; ++i)
+    spread2 += weights[i] / weight_sum *
+               (db::from_stress6(candidates[i].block->record(candidates[i].row).material_stress) - blended).squaredNorm();
+  result.estimated_error = std::sqrt(spread2);
+  result.stress = to_lab_frame(blended, polar.R);
+  return result;
+}
+
+void LookupIndex::count(const LookupAnswer& a) const {
+  queries_.fetch_add(1, std::memory_order_relaxed);
+  (a.hit ? hits_ : misses_).fetch_add(1, std::memory_order_relaxed);
+  if (a.neighbours == 0) return;
+  measured_.fetch_add(1, std::memory_order_relaxed);
+  distance_sum_.fetch_add(a.distance, std::memory_order_relaxed);
+  error_sum_.fetch_add(a.estimated_error, std::memory_order_relaxed);
+  atomic_max(distance_max_, a.distance);
+  atomic_max(error_max_, a.estimated_error);
+}
+
+LookupStats LookupIndex::stats() const {
+  LookupStats s;
+  s.queries = queries_.load();
+  s.hits = hits_.load();
+  s.misses = misses_.load();
+  const std::uint64_t measured = measured_.load();
+  if (measured > 0) {
+    s.mean_distance = distance_sum_.load() / static_cast<double>(measured);
+    s.mean_estimated_error = error_sum_.load() / static_cast<double>(measured);
+  }
+  s.max_distance = distance_max_.load();
+  s.max_estimated_error = error_max_.load();
+  return s;
+}
+
+void LookupIndex::reset_stats() {
+  for (auto* counter : {&queries_, &hits_, &misses_, &measured_}) counter->store(0);
+  for (auto* sum : {&distance_sum_, &distance_max_, &error_sum_, &error_max_}) sum->store(0);
+}
+
+}  // namespace grainbank::lookup

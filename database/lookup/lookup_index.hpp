@@ -1,0 +1,76 @@
+// Nearest-state lookup over a cell library (DESIGN.md, "Nearest-state lookup"). What the MPM's
+// `cache` and `hybrid` laws call.
+//
+// Promises:
+// - query() answers from the k records nearest in key space (state_key.hpp; Euclidean distance,
+//   kd-tree): their material-frame stresses blended with weights 1/d² (records at distance 0 take
+//   all the weight, so a library state is answered exactly), turned into the query's frame with
+//   the query's own rotation, σ = R σ̂ Rᵀ. hit = (nearest distance <= tolerance). The estimated error
+//   is the weighted RMS spread of the k stresses around the answer (Frobenius norm, Pa): 0 for one
+//   neighbour or an exact match, large where neighbours disagree.
+// - query(), query_brute_force(), size() and stats() may be called from any number of threads at
+//   once, also while another thread inserts or refreshes: a query sees the index as it was when it
+//   started (an immutable snapshot behind an atomic pointer) and never waits for a writer.
+// - insert() and refresh() are serialised among themselves. Inserted records become visible to
+//   queries that start after the call returns. Cost: new records form a new kd-tree block; blocks
+//   of similar size are merged (rebuilt), so a query searches O(log N) trees and each record is
+//   rebuilt O(log N) times over the index's life.
+// - Every query() is counted (stats()).
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <set>
+#include <vector>
+
+#include "lookup_types.hpp"
+#include "store/key_definition.hpp"
+#include "store/record.hpp"
+
+namespace grainbank::db {
+class Library;
+}
+
+namespace grainbank::lookup {
+
+struct IndexSnapshot;
+
+class LookupIndex {
+ public:
+  explicit LookupIndex(const db::KeyScales& scales);
+  ~LookupIndex();
+  LookupIndex(const LookupIndex&) = delete;
+  LookupIndex& operator=(const LookupIndex&) = delete;
+
+  const db::KeyScales& scales() const { return scales_; }
+  std::size_t size() const;
+
+  // Indexes records [first_index, first_index + records.size()) of `path_id`; their keys and
+  // material-frame stresses are computed from F, L, damage and σ with this index's scales.
+  void insert(std::int64_t path_id, std::int64_t first_index, const std::vector<db::Record>& records);
+  // Indexes the committed records of every `done` path of the library not indexed yet; returns how
+  // many records were added. Call it again to pick up paths finished since (by other processes too).
+  std::size_t refresh(db::Library& library);
+
+  // Throws std::invalid_argument for options.k == 0 or a state whose F has det F <= 0.
+  LookupAnswer query(const LookupState& state, const LookupOptions& options = {}) const;
+  // The same answer from a scan of every record; not counted in stats(). For tests and benchmarks.
+  LookupAnswer query_brute_force(const LookupState& state, const LookupOptions& options = {}) const;
+
+  LookupStats stats() const;
+  void reset_stats();
+
+ private:
+  LookupAnswer answer(const LookupState& state, const LookupOptions& options, bool brute_force) const;
+  void count(const LookupAnswer& answer) const;
+
+  db::KeyScales scales_;
+  std::atomic<std::shared_ptr<const IndexSnapshot>> snapshot_;
+  std::mutex writer_;                    // serialises insert/refresh
+  std::set<std::int64_t> indexed_paths_;  // guarded by writer_
+
+  mutable std::atomic<std::uint64_t> queries_{0}, hits_{0}, misses_{0}, measured_{0};
+  mutable std::atomic<double> distance_sum_{0}, distance_max_{0}, error_sum_{0}, error_max_{0};
+};
+
+}  // namespace grainbank::lookup

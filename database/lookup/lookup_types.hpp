@@ -1,0 +1,47 @@
+// What a nearest-state query takes and gives (lookup_index.hpp). Stress is tension-positive [Pa],
+// distances are in key units (state_key.hpp: 1 = "a different state").
+#pragma once
+#include <cstdint>
+#include <limits>
+
+#include "cell/types.hpp"
+
+namespace grainbank::lookup {
+
+// Where an indexed response came from: record `record_index` of path `path_id` (a negative path id
+// for records inserted without a library path, e.g. synthetic ones).
+struct RecordRef {
+  std::int64_t path_id = 0;
+  std::int64_t record_index = 0;
+  bool operator==(const RecordRef&) const = default;
+};
+
+// The kinematic state of a material point (or cell) in the caller's lab frame.
+struct LookupState {
+  dem::Mat3 F = dem::Mat3::Identity();  // deformation gradient, det F > 0
+  dem::Mat3 L = dem::Mat3::Zero();      // velocity gradient [1/s]
+  double damage = 0;                    // D = 1 - N_b / N_b(0)
+};
+
+struct LookupOptions {
+  std::size_t k = 4;       // neighbours blended (at least 1)
+  double tolerance = 0.5;  // a hit needs the nearest record within this key distance
+};
+
+struct LookupAnswer {
+  dem::Mat3 stress = dem::Mat3::Zero();  // R σ̂ Rᵀ in the query's frame; zero when the index is empty
+  double distance = std::numeric_limits<double>::infinity();  // to the nearest record
+  bool hit = false;                                           // distance <= tolerance
+  double estimated_error = 0;  // weighted spread of the k answers around `stress` [Pa]
+  std::size_t neighbours = 0;  // answers blended (< k only when the index holds fewer records)
+  RecordRef nearest;           // origin of the nearest record (valid when neighbours > 0)
+};
+
+// Counted over every query() since construction or reset_stats().
+struct LookupStats {
+  std::uint64_t queries = 0, hits = 0, misses = 0;
+  double mean_distance = 0, max_distance = 0;                 // over queries on a non-empty index
+  double mean_estimated_error = 0, max_estimated_error = 0;  // [Pa], same queries
+};
+
+}  // namespace grainbank::lookup
