@@ -4,7 +4,10 @@
 #include <nlohmann/json.hpp>
 
 #include "benchmark_cell.hpp"
+#include "prepare_command.hpp"
 #include "run_command.hpp"
+#include "sample_command.hpp"
+#include "store/library.hpp"
 
 int main(int argc, char** argv) {
   using namespace grainbank::app;
@@ -16,12 +19,40 @@ int main(int argc, char** argv) {
   CLI::App* run_cmd = app.add_subcommand(
       "run", "Prepare (or load) the cell of CELL.json, drive it along PATH.json and tabulate t, F, ln det F, "
              "stress (tension-positive, Pa), p, q, phi, Z, N_b, D, kinetic energy");
-  run_cmd->add_option("cell", run.cell_file, "CELL.json: material, effects, and preparation or packing file")
-      ->required();
+  std::filesystem::path run_library;
+  std::int64_t run_template = 0;
+  CLI::Option* run_cell = run_cmd->add_option("cell", run.cell_file, "CELL.json: material, effects, and preparation or packing file");
+  CLI::Option* run_library_opt =
+      run_cmd->add_option("--library", run_library, "start from a template of this cell library instead of CELL.json");
+  CLI::Option* run_template_opt = run_cmd->add_option("--template", run_template, "template id in --library")
+      ->needs(run_library_opt);
+  run_library_opt->needs(run_template_opt)->excludes(run_cell);
   run_cmd->add_option("--path", run.path_file, "PATH.json: segments of in-plane velocity gradient, record interval")
       ->required();
   run_cmd->add_option("--out", run_out, "write the table as CSV to this file instead of printing it");
   run_cmd->add_flag("--progress", run.progress, "report preparation and path progress on stderr");
+
+  PrepareOptions prepare;
+  CLI::App* prepare_cmd = app.add_subcommand(
+      "prepare", "Prepare the cell of CELL.json as a template of a cell library (created if absent); prints its id and "
+                 "N, phi, Z, N_b, p, radii. An identical preparation already in the library is reused");
+  prepare_cmd->add_option("cell", prepare.cell_file, "CELL.json: material, effects, and preparation or packing file")
+      ->required();
+  prepare_cmd->add_option("--library", prepare.library, "cell library directory")->required();
+  prepare_cmd->add_flag("--progress", prepare.progress, "report preparation progress on stderr");
+
+  SampleOptions sample;
+  CLI::App* sample_cmd = app.add_subcommand(
+      "sample", "Register the paths of PATHS.json in a cell library (each spec once) and run every pending path, "
+                "paths in parallel on threads (and on MPI ranks under mpirun). Resumable");
+  sample_cmd->add_option("paths", sample.paths_file, "PATHS.json: explicit, replay and generated paths")->required();
+  sample_cmd->add_option("--library", sample.library, "cell library directory (made by dem_sampler prepare)")->required();
+  sample_cmd->add_option("--threads", sample.threads, "worker threads per process (default: all cores; 1 per MPI rank)")
+      ->check(CLI::Range(1, 4096));
+  sample_cmd->add_option("--template", sample.template_id, "template id for the new paths (default: the only one)");
+  sample_cmd->add_flag("--retry-failed", sample.retry_failed, "run failed paths again");
+  sample_cmd->add_option("--commit-every", sample.commit_batch, "records per commit between snapshots")
+      ->check(CLI::Range(1L, 1000000L));
 
   BenchmarkOptions bench;
   bool bench_json = false;
@@ -45,8 +76,19 @@ int main(int argc, char** argv) {
   try {
     if (*run_cmd) {
       if (!run_out.empty()) run.out_file = run_out;
+      if (run_library_opt->count()) {
+        run.cell_source = [&] {
+          grainbank::db::Library library = grainbank::db::Library::open(run_library);
+          return library.restore(library.template_cell(run_template));
+        };
+        run.cell_source_name = "template " + std::to_string(run_template) + " of " + run_library.string();
+      } else if (run.cell_file.empty()) {
+        throw std::runtime_error("run: give CELL.json or --library LIB --template ID (see dem_sampler run --help)");
+      }
       run_path_command(run);
     }
+    if (*prepare_cmd) prepare_command(prepare);
+    if (*sample_cmd) return sample_command(sample);
     if (*bench_cmd) {
       const BenchmarkResult r = run_benchmark(bench);
       if (bench_json) {

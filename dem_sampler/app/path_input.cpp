@@ -8,6 +8,8 @@ namespace {
 using common::JsonNode;
 using common::Range;
 
+}  // namespace
+
 dem::Mat3 read_in_plane_gradient(const JsonNode& node) {
   constexpr const char* kShape = "a 2x2 array [[Lxx, Lxy], [Lyx, Lyy]] [1/s]";
   if (node.array_size(kShape) != 2) node.fail_expected(kShape);
@@ -50,8 +52,6 @@ dem::Substepping read_substepping(const JsonNode& root) {
   q.q_sigma = node->number_or("q_sigma", q.q_sigma, Range::between(0, 1, true, false));
   return q;
 }
-
-}  // namespace
 
 double strain_rate_norm(const dem::Mat3& L) { return (0.5 * (L + L.transpose())).norm(); }
 

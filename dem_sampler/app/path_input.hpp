@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "cell/substepping.hpp"
+#include "common/json_input.hpp"
 #include "cell/types.hpp"
 
 namespace grainbank::app {
@@ -23,6 +24,13 @@ struct PathSpec {
 
 // Throws common::InputError naming the file and the JSON path of the first problem.
 PathSpec load_path(const std::filesystem::path& file);
+
+// The pieces of PATH.json, for other inputs that embed segments (PATHS.json of `sample`).
+// read_in_plane_gradient: [[Lxx, Lxy], [Lyx, Lyy]] embedded in 3×3; read_segment: {L, duration | strain};
+// read_substepping: the optional "substepping" of `root`.
+dem::Mat3 read_in_plane_gradient(const common::JsonNode& node);
+PathSegment read_segment(const common::JsonNode& node);
+dem::Substepping read_substepping(const common::JsonNode& root);
 
 // ||sym(L)|| (Frobenius): the strain rate that turns a segment's "strain" into a duration.
 double strain_rate_norm(const dem::Mat3& L);

@@ -52,7 +52,8 @@ auto with_context(const std::filesystem::path& file, Work&& work) {
 }  // namespace
 
 void run_path_command(const RunOptions& options) {
-  const CellInput cell_input = load_cell_input(options.cell_file);
+  const std::optional<CellInput> cell_input =
+      options.cell_source ? std::nullopt : std::optional<CellInput>(load_cell_input(options.cell_file));
   const PathSpec path = load_path(options.path_file);
   std::ofstream file;
   if (options.out_file) {
@@ -61,13 +62,13 @@ void run_path_command(const RunOptions& options) {
   }
 
   const Clock::time_point prepare_start = Clock::now();
-  dem::DemCell cell = with_context(options.cell_file, [&] {
-    return build_cell(cell_input, options.progress ? report_preparation : dem::PreparationObserver{});
+  dem::DemCell cell = options.cell_source ? options.cell_source() : with_context(options.cell_file, [&] {
+    return build_cell(*cell_input, options.progress ? report_preparation : dem::PreparationObserver{});
   });
   const dem::CellMeasures initial = cell.measures();
   std::cerr << "cell: " << cell.size() << " spheres, phi = " << initial.solid_fraction
             << ", p = " << dem::pressure_of(initial.stress) << " Pa, bonds = " << initial.bonds << " ("
-            << (cell_input.packing ? "loaded" : "prepared") << " in " << seconds_since(prepare_start) << " s)\n";
+            << (options.cell_source ? options.cell_source_name : cell_input->packing ? "loaded" : "prepared") << " in " << seconds_since(prepare_start) << " s)\n";
 
   RecordTable table(options.out_file ? static_cast<std::ostream&>(file) : std::cout,
                     options.out_file ? TableStyle::csv : TableStyle::aligned);

@@ -1,7 +1,11 @@
 // `dem_sampler run`: prepare (or load) one cell, drive it along one path, tabulate every record.
 #pragma once
 #include <filesystem>
+#include <functional>
 #include <optional>
+#include <string>
+
+#include "cell/dem_cell.hpp"
 
 namespace grainbank::app {
 
@@ -10,6 +14,10 @@ struct RunOptions {
   std::filesystem::path path_file;
   std::optional<std::filesystem::path> out_file;  // CSV; without it an aligned table goes to stdout
   bool progress = false;                          // preparation and path progress on stderr
+  // Instead of CELL.json (cell_file empty): a cell from elsewhere, e.g. a library template, with a
+  // description for the summary line.
+  std::function<dem::DemCell()> cell_source;
+  std::string cell_source_name;
 };
 
 // Reads and checks both inputs (and opens the output) before any expensive work, so input errors

@@ -1,0 +1,125 @@
+#include "paths_input.hpp"
+
+#include "path_generator.hpp"
+
+namespace grainbank::sampler {
+namespace {
+
+using common::JsonNode;
+using common::Range;
+
+// What an entry inherits from the top level unless it says otherwise.
+struct Defaults {
+  std::optional<double> record_interval;
+  long snapshot_interval = 0;
+  dem::Substepping substepping;
+};
+
+Defaults read_defaults(const JsonNode& root) {
+  Defaults d;
+  if (const auto dt = root.find("record_interval")) d.record_interval = dt->number(Range::positive());
+  d.snapshot_interval = static_cast<long>(root.integer_or("snapshot_interval", 0, 0));
+  d.substepping = app::read_substepping(root);
+  return d;
+}
+
+// The entry's own value, or the inherited one.
+Defaults entry_settings(const JsonNode& entry, const Defaults& defaults) {
+  Defaults d = defaults;
+  if (const auto dt = entry.find("record_interval")) d.record_interval = dt->number(Range::positive());
+  if (!d.record_interval)
+    entry.fail_missing("record_interval", "a positive number [s] (here or at the top level)");
+  d.snapshot_interval = static_cast<long>(entry.integer_or("snapshot_interval", defaults.snapshot_interval, 0));
+  if (entry.has("substepping")) d.substepping = app::read_substepping(entry);
+  return d;
+}
+
+PathPlan plan_with(const Defaults& d) {
+  PathPlan plan;
+  plan.path.record_interval = *d.record_interval;
+  plan.path.substepping = d.substepping;
+  plan.snapshot_interval = d.snapshot_interval;
+  return plan;
+}
+
+PathPlan read_path(const JsonNode& entry, const Defaults& defaults) {
+  entry.allow_only({"segments", "replay", "record_interval", "snapshot_interval", "substepping"});
+  const auto segments = entry.find("segments");
+  const auto replay = entry.find("replay");
+  if (segments && replay) replay->fail("give either segments or replay, not both");
+  if (!segments && !replay)
+    entry.fail_missing("segments", "a non-empty array of {L, duration | strain} (or \"replay\": an array of L)");
+  PathPlan plan = plan_with(entry_settings(entry, defaults));
+  const JsonNode list = segments ? *segments : *replay;
+  const char* expected = segments ? "a non-empty array of {L, duration | strain}"
+                                  : "a non-empty array of in-plane velocity gradients [[Lxx, Lxy], [Lyx, Lyy]]";
+  const std::size_t count = list.array_size(expected);
+  if (count == 0) list.fail_expected(expected);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (segments)
+      plan.path.segments.push_back(app::read_segment(list.at(k)));
+    else  // one increment per L: exactly the history a material point imposed
+      plan.path.segments.push_back({app::read_in_plane_gradient(list.at(k)), plan.path.record_interval});
+  }
+  return plan;
+}
+
+std::vector<PathPlan> read_generator(const JsonNode& entry, const Defaults& defaults) {
+  entry.allow_only({"count", "start", "rate", "strain", "segments", "changes", "volumetric", "spin",
+                    "record_interval", "snapshot_interval", "substepping"});
+  const Defaults d = entry_settings(entry, defaults);
+  GeneratorSpec g;
+  g.record_interval = *d.record_interval;
+  g.snapshot_interval = d.snapshot_interval;
+  g.substepping = d.substepping;
+  g.count = static_cast<long>(entry.at("count", "an integer >= 1").integer(1, 1'000'000));
+  g.start = static_cast<std::uint64_t>(entry.integer_or("start", 0, 0, std::int64_t{1} << 40));
+  const JsonNode rate = entry.at("rate", "an object {min, max} [1/s]");
+  rate.allow_only({"min", "max"});
+  g.min_rate = rate.number("min", Range::positive());
+  g.max_rate = rate.number("max", Range::at_least(g.min_rate));
+  g.strain = entry.number("strain", Range::positive());
+  g.segments = static_cast<int>(entry.integer_or("segments", 1, 1, kMaxSegments));
+  if (const auto changes = entry.find("changes")) {
+    constexpr const char* kExpected = "a non-empty array of \"reversal\", \"rotation\" or \"fresh\"";
+    const std::size_t n = changes->array_size(kExpected);
+    if (n == 0) changes->fail_expected(kExpected);
+    g.changes.clear();
+    for (std::size_t k = 0; k < n; ++k) {
+      const JsonNode item = changes->at(k);
+      try {
+        g.changes.push_back(direction_change_from(item.string()));
+      } catch (const std::invalid_argument&) {
+        item.fail_expected("\"reversal\", \"rotation\" or \"fresh\"");
+      }
+    }
+  }
+  g.volumetric = entry.number_or("volumetric", g.volumetric, Range::between(0, 1, false, false));
+  g.spin = entry.number_or("spin", g.spin, Range::between(0, 1, false, false));
+  return generate_paths(g);
+}
+
+}  // namespace
+
+std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
+  const nlohmann::json document = common::load_json_file(file);
+  const JsonNode root(document, file.string());
+  root.allow_only({"paths", "generators", "record_interval", "snapshot_interval", "substepping"});
+  const Defaults defaults = read_defaults(root);
+  std::vector<PathPlan> plans;
+  if (const auto paths = root.find("paths")) {
+    const std::size_t n = paths->array_size("an array of paths {segments | replay, ...}");
+    for (std::size_t k = 0; k < n; ++k) plans.push_back(read_path(paths->at(k), defaults));
+  }
+  if (const auto generators = root.find("generators")) {
+    const std::size_t n = generators->array_size("an array of generators {count, rate, strain, ...}");
+    for (std::size_t k = 0; k < n; ++k) {
+      std::vector<PathPlan> generated = read_generator(generators->at(k), defaults);
+      plans.insert(plans.end(), generated.begin(), generated.end());
+    }
+  }
+  if (plans.empty()) root.fail("no paths: give a non-empty \"paths\" or \"generators\" array");
+  return plans;
+}
+
+}  // namespace grainbank::sampler

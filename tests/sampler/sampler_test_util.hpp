@@ -1,0 +1,118 @@
+// Shared helpers of the sampler tests: temporary directories, a small cohesive cell and path sets,
+// the dem_sampler binary run as a child process, and reading a library's committed records.
+#pragma once
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "store/library.hpp"
+
+namespace grainbank::sampler::test {
+
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "grainbank-sampler-test-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary directory");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    std::ofstream(path_ / name) << text;
+    return path_ / name;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// 64 spheres, soft contacts: a record interval of 2e-4 s is ~180 DEM steps.
+inline const char* const kCell = R"({
+  "material": {"density": 920, "k_n": 2000, "k_t": 600, "restitution": 0.3, "friction": 0.2,
+               "bond": {"tensile_strength": 8e-4, "shear_strength": 9.6e-4, "bonding_distance": 0.05}},
+  "effects": {"cohesion": true},
+  "preparation": {"spheres": 64, "diameter": {"min": 3.4e-4, "max": 4.0e-4}, "pressure": 1000, "seed": 3,
+                  "inertial_number": 0.01}
+})";
+
+// An explicit shear, a replay and four generated two-segment paths; snapshots every 10 records.
+inline const char* const kPaths = R"({
+  "record_interval": 2e-4, "snapshot_interval": 10,
+  "paths": [{"segments": [{"L": [[0, 1], [0, 0]], "duration": 0.004}]},
+            {"replay": [[[0.5, 0], [0, -0.5]], [[0.5, 0], [0, -0.5]], [[0, 1], [0, 0]]]}],
+  "generators": [{"count": 4, "rate": {"min": 0.5, "max": 5}, "strain": 0.004, "segments": 2}]
+})";
+
+inline std::string slurp(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+struct Outcome {
+  int exit_code = -1;
+  std::string out, err;
+};
+
+// Starts `program args...` with stdout/stderr in files under `dir`; returns its pid.
+inline pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& dir) {
+  const pid_t pid = fork();
+  if (pid < 0) throw std::runtime_error("fork failed");
+  if (pid == 0) {
+    const int out = open((dir / "stdout.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    dup2(out, 1);
+    dup2(err, 2);
+    std::vector<char*> args;
+    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+    args.push_back(nullptr);
+    execv(args[0], args.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+inline Outcome wait_for(pid_t pid, const std::filesystem::path& dir) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, slurp(dir / "stdout.txt"), slurp(dir / "stderr.txt")};
+}
+
+inline Outcome run(const std::vector<std::string>& argv, const std::filesystem::path& dir) {
+  return wait_for(spawn(argv, dir), dir);
+}
+
+inline std::vector<std::string> dem_sampler(std::vector<std::string> args) {
+  args.insert(args.begin(), DEM_SAMPLER_BINARY);
+  return args;
+}
+
+// Committed records of every path, by path id.
+inline std::map<std::int64_t, std::vector<db::Record>> all_records(const std::filesystem::path& library) {
+  db::Library lib = db::Library::open(library);
+  std::map<std::int64_t, std::vector<db::Record>> out;
+  for (const db::PathRow& row : lib.catalogue().paths()) out[row.id] = lib.records(row.id);
+  return out;
+}
+
+inline std::vector<db::PathRow> path_rows(const std::filesystem::path& library) {
+  return db::Library::open(library).catalogue().paths();
+}
+
+}  // namespace grainbank::sampler::test
