@@ -1,0 +1,114 @@
+#include "run_command.hpp"
+
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <optional>
+
+#include "io/restart.hpp"
+#include "io/scene_input.hpp"
+#include "io/series_csv.hpp"
+#include "io/vtu_writer.hpp"
+
+namespace grainbank::mpm::app {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// Output times t_k = k · interval; `due` tells whether t reached the next one (within round-off).
+struct Schedule {
+  double interval;
+  long next = 1;
+  double next_time() const { return static_cast<double>(next) * interval; }
+  bool due(double t) const { return t >= next_time() * (1 - 1e-12); }
+};
+// Index of the first output time after t (a restarted run continues the same schedule).
+long next_after(double t, double interval) { return static_cast<long>(std::floor(t / interval * (1 + 1e-12))) + 1; }
+
+nlohmann::json phases_json(const PhaseTimes& p) {
+  return {{"contact", p.contact},           {"particles_to_grid", p.particles_to_grid},
+          {"grid", p.grid},                 {"grid_to_particles_and_remap", p.grid_to_particles},
+          {"stress", p.stress},             {"sort", p.sort}};
+}
+
+}  // namespace
+
+nlohmann::json run_scene(const RunOptions& options) {
+  const Clock::time_point start = Clock::now();
+  io::Scene scene = io::load_scene(options.scene);
+  Solver& solver = *scene.solver;
+  if (!options.restart.empty()) io::read_restart(options.restart, solver);
+  const double setup_time = seconds_since(start);
+
+  std::filesystem::create_directories(options.out);
+  io::PvdCollection pvd(options.out / "points.pvd");
+  io::SeriesCsv series(options.out / "series.csv");
+  std::optional<io::TrackedCsv> tracked;
+  if (!scene.tracked_points.empty()) tracked.emplace(options.out / "tracked_points.csv", scene.tracked_points);
+
+  double output_time = 0;
+  long snapshots = 0;
+  const auto snapshot = [&] {
+    const Clock::time_point t0 = Clock::now();
+    char name[64];
+    std::snprintf(name, sizeof name, "points_%06ld.vtu", snapshots++);
+    io::write_vtu(options.out / name, solver);
+    pvd.add(solver.time(), name);
+    output_time += seconds_since(t0);
+  };
+  const auto record = [&](double dt) {
+    series.write(solver, dt);
+    if (tracked) tracked->write(solver);
+  };
+
+  const Clock::time_point loop_start = Clock::now();
+  snapshot();
+  record(0);
+  Schedule outputs{scene.output_interval, next_after(solver.time(), scene.output_interval)};
+  Schedule rows{scene.series_interval, next_after(solver.time(), scene.series_interval)};
+  double dt_min = std::numeric_limits<double>::infinity(), dt_max = 0;
+  Clock::time_point last_report = loop_start;
+  while (solver.time() < scene.end_time * (1 - 1e-12)) {
+    // Land exactly on the next output, row or end time.
+    const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
+    const double dt = std::min(solver.stable_time_step(), horizon - solver.time());
+    solver.step(dt);
+    dt_min = std::min(dt_min, dt), dt_max = std::max(dt_max, dt);
+    if (rows.due(solver.time())) record(dt), ++rows.next;
+    if (outputs.due(solver.time())) snapshot(), ++outputs.next;
+    if (options.progress && seconds_since(last_report) > 2) {
+      last_report = Clock::now();
+      const double done = solver.time() / scene.end_time, elapsed = seconds_since(loop_start);
+      std::fprintf(stderr, "\rt = %.4g s (%.1f%%), step %ld, dt = %.3g s, ETA %.0f s   ", solver.time(), 100 * done,
+                   solver.steps(), dt, elapsed * (1 - done) / done);
+    }
+  }
+  if (options.progress) std::fprintf(stderr, "\n");
+  const double run_time = seconds_since(loop_start);
+  io::write_restart(options.out / "restart.h5", solver);
+
+  const double updates = static_cast<double>(solver.steps()) * static_cast<double>(solver.points().size());
+  nlohmann::json summary = {
+      {"scene", options.scene.string()},
+      {"output", options.out.string()},
+      {"materials", scene.material_names},
+      {"points", solver.points().size()},
+      {"steps", solver.steps()},
+      {"final_time", solver.time()},
+      {"time_step", {{"min", solver.steps() ? dt_min : 0.0}, {"max", dt_max}}},
+      {"snapshots", snapshots},
+      {"threads", omp_get_max_threads()},
+      {"wall_time", {{"total", seconds_since(start)}, {"setup", setup_time}, {"steps", run_time - output_time},
+                     {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
+      {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0}};
+  std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';
+  return summary;
+}
+
+}  // namespace grainbank::mpm::app

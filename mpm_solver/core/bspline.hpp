@@ -1,0 +1,45 @@
+// Uniform cubic B-spline shape functions on the regular grid (16 nodes per point, tensor product).
+// Being C², they remove the cell-crossing instability of linear shape functions (seed §2.1).
+#pragma once
+#include <cmath>
+#include <cstddef>
+
+#include "grid.hpp"
+
+namespace grainbank::mpm {
+
+// Weights of the 4×4 nodes around one point: node (a, b) of the stencil is stored at
+// first_node + a + b · nodes_x, has N = wx[a] wy[b] and ∇N = (gx[a] wy[b], wx[a] gy[b]).
+struct Stencil {
+  std::size_t first_node = 0;
+  double wx[4], wy[4], gx[4], gy[4];
+};
+
+// 1D cubic B-spline weights (and derivatives, already divided by h) of the four nodes
+// floor(ξ) - 1 … floor(ξ) + 2 for a point at fractional offset f = ξ - floor(ξ) ∈ [0, 1).
+inline void cubic_weights(double f, double inv_h, double w[4], double g[4]) {
+  const double r = 1 - f;
+  w[0] = r * r * r / 6;
+  w[1] = 0.5 * f * f * f - f * f + 2.0 / 3;
+  w[2] = 0.5 * r * r * r - r * r + 2.0 / 3;
+  w[3] = f * f * f / 6;
+  g[0] = -0.5 * r * r * inv_h;
+  g[1] = (1.5 * f * f - 2 * f) * inv_h;
+  g[2] = -(1.5 * r * r - 2 * r) * inv_h;
+  g[3] = 0.5 * f * f * inv_h;
+}
+
+// The stencil of a point at x, which the grid must contain (ghost ring: base index ≥ -1).
+inline Stencil stencil_at(const Grid& grid, const Vec2& x) {
+  const double inv_h = 1 / grid.cell_size();
+  const Vec2 xi = (x - grid.lower()) * inv_h;
+  const double fx = std::floor(xi.x()), fy = std::floor(xi.y());
+  Stencil s;
+  // Cell i has nodes i-1 … i+2, i.e. storage columns i … i+3 with the ghost shift of one.
+  s.first_node = static_cast<std::size_t>(fx) + static_cast<std::size_t>(fy) * grid.nodes_x();
+  cubic_weights(xi.x() - fx, inv_h, s.wx, s.gx);
+  cubic_weights(xi.y() - fy, inv_h, s.wy, s.gy);
+  return s;
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,52 @@
+// The one interface behind which every constitutive law of the MPM sits (elastic, Drucker–Prager,
+// live DEM). A law owns the state of all its points, addressed by slot; distinct slots may be
+// updated concurrently, so update() must only touch its own slot.
+#pragma once
+#include <cstddef>
+#include <limits>
+#include <string>
+
+#include "types.hpp"
+
+namespace grainbank::mpm {
+
+class ConstitutiveLaw {
+ public:
+  virtual ~ConstitutiveLaw() = default;
+
+  // "elastic", "drucker_prager", "live".
+  virtual std::string name() const = 0;
+  // Density of new points [kg/m³] (for a live law: of its cell, spheres and voids).
+  virtual double density() const = 0;
+  // Creates the state of one more point and returns its slot and initial stress.
+  virtual std::size_t add_point(PointStress& initial_stress) = 0;
+
+  // Drives point `slot` through the in-plane deformation increment F_inc (plane strain: ε_zz = 0)
+  // over dt and replaces `stress` by the new Cauchy stress (tension-positive).
+  virtual void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) = 0;
+
+  // Current volume over initial volume of the point; F is its in-plane deformation gradient.
+  virtual double volume_ratio(std::size_t /*slot*/, const Mat2& F) const { return F.determinant(); }
+  // P-wave modulus M = K + 4G/3 [Pa] for the CFL condition, c = sqrt(M / ρ).
+  virtual double p_wave_modulus(std::size_t slot) const = 0;
+  // Largest MPM time step the law itself allows at velocity gradient L (seed Eq. 4 for DEM cells).
+  virtual double time_step_limit(std::size_t /*slot*/, const Mat2& /*L*/) const {
+    return std::numeric_limits<double>::infinity();
+  }
+  // Seed Eq. 6 damage D of the point (0 for laws without bonds).
+  virtual double damage(std::size_t /*slot*/) const { return 0; }
+  // True when an update costs far more than a few flops (the solver then schedules dynamically).
+  virtual bool expensive() const { return false; }
+};
+
+// Small-strain increment and spin of an in-plane increment: F_inc = I + dε + dω.
+inline Mat2 strain_increment(const Mat2& F_inc) {
+  const Mat2 g = F_inc - Mat2::Identity();
+  return 0.5 * (g + g.transpose());
+}
+inline Mat2 spin_increment(const Mat2& F_inc) {
+  const Mat2 g = F_inc - Mat2::Identity();
+  return 0.5 * (g - g.transpose());
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,54 @@
+#include "drucker_prager_law.hpp"
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+namespace grainbank::mpm {
+
+DruckerPragerLaw::DruckerPragerLaw(double density, DruckerPragerParameters parameters)
+    : density_(density), parameters_(parameters) {
+  if (!(density > 0) || !std::isfinite(density))
+    throw std::invalid_argument("density: expected a positive number, got " + std::to_string(density));
+  check(parameters_.elasticity);
+  const double phi = parameters_.friction_angle;
+  if (!(phi >= 0 && phi < std::numbers::pi / 2))
+    throw std::invalid_argument("friction_angle: expected an angle in [0, 90) degrees");
+  if (!(parameters_.cohesion >= 0) || !std::isfinite(parameters_.cohesion))
+    throw std::invalid_argument("cohesion: expected a number >= 0, got " + std::to_string(parameters_.cohesion));
+  const double t = std::tan(phi), root = std::sqrt(9 + 12 * t * t);
+  eta_ = 3 * t / root;
+  xi_ = 3 / root;
+  const double apex = eta_ > 0 ? xi_ * parameters_.cohesion / eta_ : std::numeric_limits<double>::infinity();
+  if (!(parameters_.tensile_strength >= 0 && parameters_.tensile_strength <= apex))
+    throw std::invalid_argument("tensile_strength: expected a number in [0, " + std::to_string(apex) +
+                                "] (the apex of the yield cone), got " + std::to_string(parameters_.tensile_strength));
+}
+
+std::size_t DruckerPragerLaw::add_point(PointStress& initial_stress) {
+  initial_stress = PointStress{};
+  return points_++;
+}
+
+PointStress DruckerPragerLaw::return_map(const PointStress& trial) const {
+  double p = pressure_of(trial);
+  const Mat2 s_plane = trial.in_plane + p * Mat2::Identity();  // deviator, in-plane block
+  const double s_zz = trial.zz + p;
+  p = std::max(p, -parameters_.tensile_strength);  // tension cut-off
+  const double s_xy = 0.5 * (s_plane(0, 1) + s_plane(1, 0));
+  const double j2 = 0.5 * (s_plane(0, 0) * s_plane(0, 0) + s_plane(1, 1) * s_plane(1, 1) + s_zz * s_zz) + s_xy * s_xy;
+  const double limit = std::max(eta_ * p + xi_ * parameters_.cohesion, 0.0);
+  const double scale = j2 > limit * limit ? limit / std::sqrt(j2) : 1.0;
+  PointStress out;
+  out.in_plane = scale * s_plane - p * Mat2::Identity();
+  out.zz = scale * s_zz - p;
+  return out;
+}
+
+void DruckerPragerLaw::update(std::size_t, const Mat2& F_inc, double, PointStress& stress) {
+  stress = return_map(elastic_predictor(parameters_.elasticity, stress, F_inc));
+}
+
+}  // namespace grainbank::mpm

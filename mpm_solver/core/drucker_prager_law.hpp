@@ -1,0 +1,39 @@
+// Drucker–Prager plasticity with cohesion and a tension cut-off, plane strain, no dilatancy.
+// Yield: sqrt(J2) ≤ η p + ξ c with η, ξ matched to Mohr–Coulomb in plane strain,
+// η = 3 tan φ / sqrt(9 + 12 tan² φ), ξ = 3 / sqrt(9 + 12 tan² φ), p = -tr σ / 3.
+// Tension cut-off: the mean stress never exceeds the tensile strength T (p ≥ -T).
+// Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
+// radially onto the cone (zero dilatancy: plastic flow is purely deviatoric).
+#pragma once
+#include "elastic_law.hpp"
+
+namespace grainbank::mpm {
+
+struct DruckerPragerParameters {
+  Elasticity elasticity;
+  double friction_angle = 0;    // φ [rad], in [0, π/2)
+  double cohesion = 0;          // c [Pa] ≥ 0
+  double tensile_strength = 0;  // T [Pa], in [0, ξ c / η] (the apex of the cone)
+};
+
+class DruckerPragerLaw : public ConstitutiveLaw {
+ public:
+  DruckerPragerLaw(double density, DruckerPragerParameters parameters);
+
+  std::string name() const override { return "drucker_prager"; }
+  double density() const override { return density_; }
+  std::size_t add_point(PointStress& initial_stress) override;
+  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  double p_wave_modulus(std::size_t) const override { return parameters_.elasticity.p_wave_modulus(); }
+
+  // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense above.
+  PointStress return_map(const PointStress& trial) const;
+
+ private:
+  double density_;
+  DruckerPragerParameters parameters_;
+  double eta_, xi_;
+  std::size_t points_ = 0;
+};
+
+}  // namespace grainbank::mpm

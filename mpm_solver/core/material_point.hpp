@@ -1,0 +1,32 @@
+// A material point of the 2D plane-strain MPM. Mass, volume and forces are per unit thickness.
+#pragma once
+#include <cmath>
+#include <cstdint>
+
+#include "types.hpp"
+
+namespace grainbank::mpm {
+
+struct MaterialPoint {
+  std::uint32_t id = 0;        // stable across sorting (outputs, contact history, tracking)
+  std::uint32_t law = 0;       // index of its constitutive law in the solver
+  std::uint32_t slot = 0;      // its state inside that law
+  double mass = 0;             // [kg/m]
+  double initial_volume = 0;   // [m²]
+  double volume = 0;           // [m²]
+  double radius = 0;           // disk radius seen by obstacles: half the initial point spacing [m]
+  Vec2 position = Vec2::Zero();
+  Vec2 velocity = Vec2::Zero();
+  Vec2 external_force = Vec2::Zero();  // obstacle contact force of the current step [N/m]
+  Mat2 deformation_gradient = Mat2::Identity();
+  Mat2 velocity_gradient = Mat2::Zero();  // L of the last step
+  PointStress stress;
+};
+
+// Seed Eq. 5: ε̇_q = sqrt((L_xx - L_yy)² + (L_xy + L_yx)²).
+inline double deviatoric_strain_rate(const Mat2& L) {
+  const double a = L(0, 0) - L(1, 1), b = L(0, 1) + L(1, 0);
+  return std::sqrt(a * a + b * b);
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,46 @@
+#include "obstacle.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace grainbank::mpm {
+
+Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, double removal_time)
+    : shape_(std::move(shape)), contact_(contact), velocity_(velocity), removal_time_(removal_time) {
+  check(shape_);
+  if (!(contact_.k_n > 0) || !std::isfinite(contact_.k_n)) throw std::invalid_argument("k_n: expected a positive number");
+  if (!(contact_.k_t >= 0) || !std::isfinite(contact_.k_t)) throw std::invalid_argument("k_t: expected a number >= 0");
+  if (!(contact_.friction >= 0) || !std::isfinite(contact_.friction))
+    throw std::invalid_argument("friction: expected a number >= 0");
+  if (!(contact_.damping_ratio >= 0 && contact_.damping_ratio <= 1))
+    throw std::invalid_argument("damping: expected a number in [0, 1]");
+  if (!velocity_.allFinite()) throw std::invalid_argument("velocity: expected finite numbers");
+}
+
+Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass,
+                             double t, double dt) {
+  double& ft = tangential_[id];
+  // Work in the obstacle's frame: it only translates.
+  const Vec2 x_local = x - velocity_ * t;
+  const Vec2 to_point = x_local - closest_point(shape_, x_local);
+  const double d = to_point.norm();
+  const bool inside = contains(shape_, x_local);
+  const double overlap = inside ? radius + d : radius - d;
+  if (overlap <= 0 || d == 0) {
+    ft = 0;
+    return Vec2::Zero();
+  }
+  // Unit normal pushing the point out of the obstacle.
+  const Vec2 n = (inside ? -to_point : to_point) / d;
+  const Vec2 v_rel = v - velocity_;
+  const double damping = 2 * contact_.damping_ratio * std::sqrt(mass * contact_.k_n);
+  const double fn = std::max(0.0, contact_.k_n * overlap - damping * v_rel.dot(n));
+  if (contact_.friction == 0) return fn * n;
+  const Vec2 tangent(-n.y(), n.x());
+  const double cap = contact_.friction * fn;
+  ft = std::clamp(ft - contact_.k_t * v_rel.dot(tangent) * dt, -cap, cap);
+  return fn * n + ft * tangent;
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,52 @@
+// A rigid obstacle (line or polygon) in frictional contact with material points seen as disks,
+// through a DEM-like law (seed §2.1): f_n = max(0, k_n δ - c v_n) with c = 2 ζ sqrt(m k_n), and an
+// incremental tangential spring f_t ← f_t - k_t v_t Δt capped by Coulomb, |f_t| ≤ μ f_n. The force
+// acts on the point as an external force. Obstacles are fixed or move at a prescribed velocity, and
+// may be removed at a given time (a gate).
+#pragma once
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "geometry.hpp"
+
+namespace grainbank::mpm {
+
+struct ContactParameters {
+  double k_n = 0;            // normal stiffness [N/m per m of thickness] > 0
+  double k_t = 0;            // tangential stiffness ≥ 0
+  double friction = 0;       // Coulomb μ ≥ 0 (0: no tangential force at all)
+  double damping_ratio = 0;  // ζ ∈ [0, 1] of the normal dashpot
+};
+
+class Obstacle {
+ public:
+  // Throws std::invalid_argument on a bad shape or parameters.
+  Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity = Vec2::Zero(),
+           double removal_time = std::numeric_limits<double>::infinity());
+
+  bool active(double t) const { return t < removal_time_; }
+  const ContactParameters& contact() const { return contact_; }
+  const Vec2& velocity() const { return velocity_; }
+
+  // Sizes the tangential history for point ids [0, count).
+  void reserve_points(std::size_t count) { tangential_.resize(count, 0.0); }
+
+  // Tangential contact forces by point id (restart files).
+  const std::vector<double>& tangential_history() const { return tangential_; }
+  void set_tangential_history(std::vector<double> history) { tangential_ = std::move(history); }
+
+  // Contact force on the disk (centre x, radius r, velocity v, mass m) of point `id` at time t over a
+  // step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
+  Vec2 contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass, double t,
+                     double dt);
+
+ private:
+  Polyline shape_;
+  ContactParameters contact_;
+  Vec2 velocity_;
+  double removal_time_;
+  std::vector<double> tangential_;  // f_t along the contact tangent, per point id
+};
+
+}  // namespace grainbank::mpm

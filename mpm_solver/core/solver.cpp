@@ -1,0 +1,158 @@
+#include "solver.hpp"
+
+#include <chrono>
+#include <exception>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+#include "parallel.hpp"
+
+namespace grainbank::mpm {
+
+namespace {
+// Adds the wall time of f() to `total`.
+template <class F>
+void timed(double& total, F&& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+Solver::Solver(Grid grid, SolverSettings settings)
+    : grid_(std::move(grid)), settings_(settings), buffers_(grid_.node_count()) {
+  if (!(settings_.flip >= 0 && settings_.flip <= 1)) throw std::invalid_argument("flip: expected a number in [0, 1]");
+  if (!(settings_.time_step.cfl > 0) || !(settings_.time_step.contact > 0))
+    throw std::invalid_argument("time-step factors must be positive");
+  if (!(settings_.max_time_step > 0)) throw std::invalid_argument("max_time_step: expected a positive number");
+  if (settings_.sort_interval < 1) throw std::invalid_argument("sort_interval: expected an integer >= 1");
+}
+
+std::size_t Solver::add_law(std::unique_ptr<ConstitutiveLaw> law) {
+  any_expensive_law_ = any_expensive_law_ || law->expensive();
+  laws_.push_back(std::move(law));
+  return laws_.size() - 1;
+}
+
+std::uint32_t Solver::add_point(std::size_t law, const Vec2& position, double volume, double radius,
+                                const Vec2& velocity) {
+  if (law >= laws_.size()) throw std::invalid_argument("add_point: no such law");
+  if (!grid_.contains(position)) throw std::invalid_argument("add_point: the point lies outside the grid");
+  if (!(volume > 0) || !(radius > 0)) throw std::invalid_argument("add_point: volume and radius must be positive");
+  MaterialPoint mp;
+  mp.id = static_cast<std::uint32_t>(points_.size());
+  mp.law = static_cast<std::uint32_t>(law);
+  mp.slot = static_cast<std::uint32_t>(laws_[law]->add_point(mp.stress));
+  mp.initial_volume = mp.volume = volume;
+  mp.mass = laws_[law]->density() * volume;
+  mp.radius = radius;
+  mp.position = position;
+  mp.velocity = velocity;
+  points_.push_back(mp);
+  return mp.id;
+}
+
+void Solver::restore(double time, long steps, std::vector<MaterialPoint> points) {
+  if (points.size() != points_.size())
+    throw std::invalid_argument("restore: the restart holds " + std::to_string(points.size()) +
+                                " points, the scene " + std::to_string(points_.size()));
+  time_ = time;
+  steps_ = steps;
+  points_ = std::move(points);
+}
+
+void Solver::add_obstacle(Obstacle obstacle) { obstacles_.push_back(std::move(obstacle)); }
+
+TimeStepLimits Solver::time_step_limits() const {
+  return critical_time_step(grid_, points_, laws_, obstacles_, time_, settings_.time_step);
+}
+
+double Solver::stable_time_step() const { return std::min(time_step_limits().minimum(), settings_.max_time_step); }
+
+// One MUSL step, top to bottom (seed §2.1).
+void Solver::step(double dt) {
+  if (!(dt > 0)) throw std::invalid_argument("step: expected a positive time step");
+  if (steps_ % settings_.sort_interval == 0) timed(phase_times_.sort, [&] { sort_points_by_cell(); });
+  locate_points();
+  timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
+  timed(phase_times_.particles_to_grid, [&] { particles_to_grid(grid_, points_, stencils_, buffers_); });
+  timed(phase_times_.grid, [&] { update_grid(grid_, gravity_.at(time_)); });
+  timed(phase_times_.grid_to_particles, [&] {
+    grid_to_particles(grid_, points_, stencils_, dt, settings_.flip);
+    remap_velocities(grid_, points_, stencils_, buffers_);
+  });
+  timed(phase_times_.stress, [&] { update_stresses(dt); });
+  time_ += dt;
+  ++steps_;
+}
+
+void Solver::sort_points_by_cell() {
+  // Counting sort: points of one cell become neighbours in memory, and so do their nodes.
+  const std::size_t cells = static_cast<std::size_t>(grid_.cells_x()) * grid_.cells_y();
+  std::vector<std::size_t> start(cells + 1, 0), key(points_.size());
+  for (std::size_t p = 0; p < points_.size(); ++p) {
+    if (!grid_.contains(points_[p].position)) return;  // locate_points reports it
+    key[p] = grid_.cell_index(points_[p].position);
+    ++start[key[p] + 1];
+  }
+  for (std::size_t c = 0; c < cells; ++c) start[c + 1] += start[c];
+  std::vector<MaterialPoint> sorted(points_.size());
+  for (std::size_t p = 0; p < points_.size(); ++p) sorted[start[key[p]]++] = points_[p];
+  points_.swap(sorted);
+}
+
+void Solver::locate_points() {
+  for (const MaterialPoint& mp : points_)
+    if (!grid_.contains(mp.position) || !mp.position.allFinite()) {
+      std::ostringstream msg;
+      msg << "material point " << mp.id << " left the grid at t = " << time_ << " s: position (" << mp.position.x()
+          << ", " << mp.position.y() << "), grid [" << grid_.lower().x() << ", " << grid_.upper().x() << "] x ["
+          << grid_.lower().y() << ", " << grid_.upper().y() << "]; enlarge the grid or add walls";
+      throw std::runtime_error(msg.str());
+    }
+  compute_stencils(grid_, points_, stencils_);
+}
+
+void Solver::apply_obstacle_contacts(double dt) {
+  const long n = static_cast<long>(points_.size());
+  for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (long p = 0; p < n; ++p) {
+    MaterialPoint& mp = points_[p];
+    mp.external_force.setZero();
+    for (Obstacle& o : obstacles_)
+      if (o.active(time_))
+        mp.external_force += o.contact_force(mp.id, mp.position, mp.velocity, mp.radius, mp.mass, time_, dt);
+  }
+}
+
+void Solver::update_stresses(double dt) {
+  const long n = static_cast<long>(points_.size());
+  // Live DEM points cost milliseconds each and unevenly: hand them out one at a time.
+  const int chunk = any_expensive_law_ ? 1 : 256;
+  std::exception_ptr failure;
+#pragma omp parallel for schedule(dynamic, chunk) if (any_expensive_law_ || n >= kMinParallelItems)
+  for (long p = 0; p < n; ++p) {
+    MaterialPoint& mp = points_[p];
+    try {
+      ConstitutiveLaw& law = *laws_[mp.law];
+      mp.velocity_gradient = velocity_gradient(grid_, stencils_[p]);
+      const Mat2 increment = Mat2::Identity() + dt * mp.velocity_gradient;
+      mp.deformation_gradient = increment * mp.deformation_gradient;
+      law.update(mp.slot, increment, dt, mp.stress);
+      mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
+    } catch (const std::exception& e) {
+#pragma omp critical(mpm_stress_failure)
+      if (!failure) {
+        std::ostringstream msg;
+        msg << "material point " << mp.id << " (law " << laws_[mp.law]->name() << ") at t = " << time_
+            << " s: " << e.what();
+        failure = std::make_exception_ptr(std::runtime_error(msg.str()));
+      }
+    }
+  }
+  if (failure) std::rethrow_exception(failure);
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,88 @@
+// The 2D plane-strain MPM solver: material points on a regular grid with cubic B-splines, explicit
+// MUSL time integration with a FLIP/PIC blend, gravity and rigid obstacles. Knows no file format:
+// scenes are built through this interface (io/ reads them from JSON).
+#pragma once
+#include <memory>
+#include <vector>
+
+#include "constitutive_law.hpp"
+#include "gravity.hpp"
+#include "grid.hpp"
+#include "material_point.hpp"
+#include "obstacle.hpp"
+#include "time_step.hpp"
+#include "transfers.hpp"
+
+namespace grainbank::mpm {
+
+struct SolverSettings {
+  double flip = 0.95;             // α of the FLIP/PIC blend: 1 = pure FLIP, 0 = pure PIC (damps)
+  TimeStepFactors time_step;
+  double max_time_step = std::numeric_limits<double>::infinity();
+  int sort_interval = 20;         // re-sort points by cell every this many steps (memory locality)
+};
+
+// Wall time spent in each part of the step [s], summed over steps.
+struct PhaseTimes {
+  double contact = 0, particles_to_grid = 0, grid = 0, grid_to_particles = 0, stress = 0, sort = 0;
+};
+
+class Solver {
+ public:
+  Solver(Grid grid, SolverSettings settings);
+
+  // Laws first, then points that refer to them by index; obstacles and gravity at any time.
+  std::size_t add_law(std::unique_ptr<ConstitutiveLaw> law);
+  // A point of `volume` [m²] with the law's density; throws std::invalid_argument outside the grid.
+  std::uint32_t add_point(std::size_t law, const Vec2& position, double volume, double radius,
+                          const Vec2& velocity = Vec2::Zero());
+  void add_obstacle(Obstacle obstacle);
+  void set_gravity(const Gravity& gravity) { gravity_ = gravity; }
+
+  // Criteria for the next step (their minimum, capped by max_time_step, is the step to take).
+  TimeStepLimits time_step_limits() const;
+  double stable_time_step() const;
+
+  // One MUSL step of length dt. Throws std::runtime_error (naming the point) when a point leaves
+  // the grid or its law fails; the solver is then not to be stepped further.
+  void step(double dt);
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const Grid& grid() const { return grid_; }
+  const std::vector<MaterialPoint>& points() const { return points_; }
+  const ConstitutiveLaw& law(std::size_t index) const { return *laws_[index]; }
+  std::size_t law_count() const { return laws_.size(); }
+  const std::vector<Obstacle>& obstacles() const { return obstacles_; }
+  const Gravity& gravity() const { return gravity_; }
+  const SolverSettings& settings() const { return settings_; }
+  const PhaseTimes& phase_times() const { return phase_times_; }
+
+  // Restart support: mutable access to the laws and obstacles (whose states a restart file
+  // restores), and replacement of the time, step count and points of a solver built from the same
+  // scene.
+  ConstitutiveLaw& law(std::size_t index) { return *laws_[index]; }
+  Obstacle& obstacle(std::size_t index) { return obstacles_[index]; }
+  void restore(double time, long steps, std::vector<MaterialPoint> points);
+
+ private:
+  void sort_points_by_cell();
+  void locate_points();           // stencils; throws if a point left the grid
+  void apply_obstacle_contacts(double dt);
+  void update_stresses(double dt);
+
+  Grid grid_;
+  SolverSettings settings_;
+  std::vector<std::unique_ptr<ConstitutiveLaw>> laws_;
+  std::vector<MaterialPoint> points_;
+  std::vector<Stencil> stencils_;
+  std::vector<Obstacle> obstacles_;
+  Gravity gravity_;
+  ScatterBuffers buffers_;
+  double time_ = 0;
+  long steps_ = 0;
+  bool any_expensive_law_ = false;
+  PhaseTimes phase_times_;
+};
+
+}  // namespace grainbank::mpm

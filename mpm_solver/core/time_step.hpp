@@ -1,0 +1,34 @@
+// Critical time step of the explicit MPM: the MINIMUM of every stability criterion (the reference
+// implementation takes the maximum, and has no wave-speed criterion for DEM points).
+#pragma once
+#include <algorithm>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "constitutive_law.hpp"
+#include "grid.hpp"
+#include "material_point.hpp"
+#include "obstacle.hpp"
+
+namespace grainbank::mpm {
+
+struct TimeStepFactors {
+  double cfl = 0.3;      // Δt ≤ cfl · h / max_p (c_p + |v_p|), c_p = sqrt(M_p / ρ_p)
+  double contact = 0.2;  // Δt ≤ contact · sqrt(m_min / k_n,max) over active obstacles
+};
+
+struct TimeStepLimits {
+  double wave = std::numeric_limits<double>::infinity();     // CFL
+  double contact = std::numeric_limits<double>::infinity();  // obstacle springs
+  double law = std::numeric_limits<double>::infinity();      // the laws' own limits (seed Eq. 4)
+  double minimum() const { return std::min({wave, contact, law}); }
+};
+
+// Uses each point's last velocity gradient for seed Eq. 4: the step is chosen before the new
+// gradient is known, and never changed in the middle of a step.
+TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPoint>& points,
+                                  const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws,
+                                  const std::vector<Obstacle>& obstacles, double time, const TimeStepFactors& factors);
+
+}  // namespace grainbank::mpm

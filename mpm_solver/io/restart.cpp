@@ -1,0 +1,110 @@
+#include "restart.hpp"
+
+#include <stdexcept>
+#include <string>
+
+#include "core/live_dem_law.hpp"
+#include "store/cell_state_io.hpp"
+#include "store/hdf5_handle.hpp"
+
+namespace grainbank::mpm::io {
+
+namespace h5 = db::h5;
+
+namespace {
+
+constexpr hsize_t kColumns = 24;
+
+// id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz.
+void append_row(std::vector<double>& rows, const MaterialPoint& mp) {
+  const Mat2& F = mp.deformation_gradient;
+  const Mat2& L = mp.velocity_gradient;
+  const Mat2& s = mp.stress.in_plane;
+  rows.insert(rows.end(), {double(mp.id), double(mp.law), double(mp.slot), mp.mass, mp.initial_volume, mp.volume,
+                           mp.radius, mp.position.x(), mp.position.y(), mp.velocity.x(), mp.velocity.y(), F(0, 0),
+                           F(0, 1), F(1, 0), F(1, 1), L(0, 0), L(0, 1), L(1, 0), L(1, 1), s(0, 0), s(0, 1), s(1, 0),
+                           s(1, 1), mp.stress.zz});
+}
+
+MaterialPoint point_from_row(const double* r) {
+  MaterialPoint mp;
+  mp.id = static_cast<std::uint32_t>(r[0]);
+  mp.law = static_cast<std::uint32_t>(r[1]);
+  mp.slot = static_cast<std::uint32_t>(r[2]);
+  mp.mass = r[3], mp.initial_volume = r[4], mp.volume = r[5], mp.radius = r[6];
+  mp.position = {r[7], r[8]};
+  mp.velocity = {r[9], r[10]};
+  mp.deformation_gradient << r[11], r[12], r[13], r[14];
+  mp.velocity_gradient << r[15], r[16], r[17], r[18];
+  mp.stress.in_plane << r[19], r[20], r[21], r[22];
+  mp.stress.zz = r[23];
+  return mp;
+}
+
+std::string cell_group(std::size_t law, std::size_t slot) {
+  return "law_" + std::to_string(law) + "_cell_" + std::to_string(slot);
+}
+
+void write_contents(const h5::Object& root, const Solver& solver) {
+  h5::write_attribute(root, "time", solver.time());
+  h5::write_attribute(root, "steps", static_cast<std::int64_t>(solver.steps()));
+  std::vector<double> rows;
+  for (const MaterialPoint& mp : solver.points()) append_row(rows, mp);
+  h5::write_array(root, "points", rows, kColumns);
+  std::vector<double> tangential;
+  for (const Obstacle& o : solver.obstacles()) {
+    std::vector<double> history = o.tangential_history();
+    history.resize(solver.points().size(), 0.0);
+    tangential.insert(tangential.end(), history.begin(), history.end());
+  }
+  h5::write_array(root, "obstacle_tangential", tangential, solver.points().size());
+  for (const MaterialPoint& mp : solver.points())
+    if (const auto* live = dynamic_cast<const LiveDemLaw*>(&solver.law(mp.law))) {
+      const dem::DemCell& cell = live->cell(mp.slot);
+      db::write_cell_state(h5::create_group(root, cell_group(mp.law, mp.slot)), db::StoredCell{cell.state(), cell.skin()});
+    }
+}
+
+}  // namespace
+
+void write_restart(const std::filesystem::path& file, const Solver& solver) {
+  // Written aside and renamed at the end: an existing restart file (perhaps the one this run
+  // started from) is replaced only by a complete one.
+  std::filesystem::path partial = file;
+  partial += ".partial";
+  std::filesystem::remove(partial);
+  {
+    const h5::Object root = h5::create_file(partial);
+    write_contents(root, solver);
+    h5::flush(root);
+  }
+  std::filesystem::rename(partial, file);
+}
+
+void read_restart(const std::filesystem::path& file, Solver& solver) {
+  const h5::Object root = h5::open_file(file, false);
+  const std::vector<double> rows = h5::read_array<double>(root, "points", kColumns);
+  std::vector<MaterialPoint> points;
+  for (std::size_t k = 0; k < rows.size() / kColumns; ++k) {
+    points.push_back(point_from_row(&rows[k * kColumns]));
+    if (points.back().law >= solver.law_count())
+      throw std::runtime_error(file.string() + ": point " + std::to_string(points.back().id) +
+                               " refers to a law the scene does not have");
+  }
+  const std::vector<double> tangential = h5::read_array<double>(root, "obstacle_tangential", points.size());
+  if (tangential.size() != solver.obstacles().size() * points.size())
+    throw std::runtime_error(file.string() + ": the restart and the scene differ in obstacles or points");
+  for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
+    solver.obstacle(o).set_tangential_history(
+        std::vector<double>(tangential.begin() + o * points.size(), tangential.begin() + (o + 1) * points.size()));
+  for (const MaterialPoint& mp : points)
+    if (auto* live = dynamic_cast<LiveDemLaw*>(&solver.law(mp.law)))
+      live->restore_cell(mp.slot, db::read_cell_state(h5::open_group(root, cell_group(mp.law, mp.slot))).state);
+  try {
+    solver.restore(h5::read_double_attribute(root, "time"), h5::read_int_attribute(root, "steps"), std::move(points));
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(file.string() + ": " + e.what());
+  }
+}
+
+}  // namespace grainbank::mpm::io

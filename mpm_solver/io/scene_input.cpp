@@ -1,0 +1,233 @@
+#include "scene_input.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include "cell_input.hpp"
+#include "common/json_input.hpp"
+#include "core/drucker_prager_law.hpp"
+#include "core/elastic_law.hpp"
+#include "core/live_dem_law.hpp"
+#include "core/seeding.hpp"
+#include "store/library.hpp"
+
+namespace grainbank::mpm::io {
+
+using common::JsonNode;
+using common::Range;
+
+namespace {
+
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+Vec2 vec2(const JsonNode& node) {
+  if (node.array_size("an array [x, y]") != 2) node.fail_expected("an array [x, y]");
+  return {node.at(0).number(), node.at(1).number()};
+}
+
+std::vector<Vec2> vertices(const JsonNode& node) {
+  std::vector<Vec2> out;
+  const std::size_t n = node.array_size("an array of [x, y] vertices");
+  for (std::size_t k = 0; k < n; ++k) out.push_back(vec2(node.at(k)));
+  return out;
+}
+
+// Runs a physics constructor and turns its std::invalid_argument into an error at `node`.
+template <class F>
+auto at_node(const JsonNode& node, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    node.fail(e.what());
+  }
+}
+
+Grid read_grid(const JsonNode& node) {
+  node.allow_only({"origin", "cell_size", "cells"});
+  const Vec2 origin = node.has("origin") ? vec2(node.at("origin", "")) : Vec2::Zero();
+  const double h = node.number("cell_size", Range::positive());
+  const JsonNode cells = node.at("cells", "an array [n_x, n_y] of cell counts");
+  if (cells.array_size("an array [n_x, n_y]") != 2) cells.fail_expected("an array [n_x, n_y]");
+  return Grid(origin, h, static_cast<int>(cells.at(0).integer(1, 100000)), static_cast<int>(cells.at(1).integer(1, 100000)));
+}
+
+dem::DemCell live_template(const JsonNode& node, const std::filesystem::path& folder) {
+  if (node.has("cell") == node.has("library"))
+    node.fail("a live material needs exactly one of \"cell\" (a cell.json) and \"library\" with \"template\"");
+  if (node.has("cell")) {
+    const app::CellInput input = app::load_cell_input(folder / node.at("cell", "").string());
+    return app::build_cell(input);
+  }
+  const JsonNode lib = node.at("library", "");
+  const std::int64_t id = node.at("template", "a template id (integer)").integer(1);
+  try {
+    db::Library library = db::Library::open(folder / lib.string());
+    return library.restore(library.template_cell(id));
+  } catch (const std::exception& e) {
+    lib.fail(e.what());
+  }
+}
+
+std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::filesystem::path& folder) {
+  const std::string law = node.at("law", "\"elastic\", \"drucker_prager\" or \"live\"").string();
+  if (law == "elastic") {
+    node.allow_only({"name", "law", "density", "young", "poisson"});
+    return at_node(node, [&] {
+      return std::make_unique<ElasticLaw>(node.number("density", Range::positive()),
+                                          Elasticity{node.number("young", Range::positive()),
+                                                     node.number("poisson", Range::between(-1, 0.5, true, true))});
+    });
+  }
+  if (law == "drucker_prager") {
+    node.allow_only({"name", "law", "density", "young", "poisson", "friction_angle", "cohesion", "tensile_strength"});
+    DruckerPragerParameters p;
+    p.elasticity = {node.number("young", Range::positive()), node.number("poisson", Range::between(-1, 0.5, true, true))};
+    p.friction_angle = node.number("friction_angle", Range::between(0, 90, false, true)) * std::numbers::pi / 180;
+    p.cohesion = node.number_or("cohesion", 0, Range::at_least(0));
+    p.tensile_strength = node.number_or("tensile_strength", 0, Range::at_least(0));
+    return at_node(node, [&] { return std::make_unique<DruckerPragerLaw>(node.number("density", Range::positive()), p); });
+  }
+  if (law == "live") {
+    node.allow_only({"name", "law", "cell", "library", "template", "substepping", "q_h"});
+    LiveDemSettings s;
+    if (const auto sub = node.find("substepping")) {
+      sub->allow_only({"q_t", "q_n", "q_sigma"});
+      s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, 0.3, true, false));
+      s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
+      s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
+    }
+    s.q_h = node.number_or("q_h", s.q_h, Range::positive());
+    const dem::DemCell cell = live_template(node, folder);
+    return std::make_unique<LiveDemLaw>(cell, s);
+  }
+  node.at("law", "").fail_expected("\"elastic\", \"drucker_prager\" or \"live\"");
+}
+
+void read_region(const JsonNode& node, Solver& solver, const std::vector<std::string>& names) {
+  node.allow_only({"material", "rectangle", "polygon", "points_per_cell", "velocity"});
+  const JsonNode material = node.at("material", "the name of a material");
+  const auto it = std::find(names.begin(), names.end(), material.string());
+  if (it == names.end()) material.fail_expected("the name of a material");
+  if (node.has("rectangle") == node.has("polygon")) node.fail("a region needs exactly one of \"rectangle\" and \"polygon\"");
+  Polyline shape;
+  if (const auto r = node.find("rectangle")) {
+    r->allow_only({"min", "max"});
+    const Vec2 lo = vec2(r->at("min", "[x, y]")), hi = vec2(r->at("max", "[x, y]"));
+    if (!(lo.array() < hi.array()).all()) r->fail("expected min < max in both directions");
+    shape = rectangle(lo, hi);
+  } else {
+    shape = Polyline{vertices(*node.find("polygon")), true};
+  }
+  const int ppc = static_cast<int>(node.integer_or("points_per_cell", 2, 1, 16));
+  const Vec2 velocity = node.has("velocity") ? vec2(node.at("velocity", "")) : Vec2::Zero();
+  const std::size_t added = at_node(node, [&] {
+    return seed_region(solver, static_cast<std::size_t>(it - names.begin()), shape, ppc, velocity);
+  });
+  if (added == 0) node.fail("the region contains no material point (too small for the grid?)");
+}
+
+Obstacle read_obstacle(const JsonNode& node, bool friction) {
+  node.allow_only({"line", "polygon", "k_n", "k_t", "friction", "damping", "velocity", "remove_at"});
+  if (node.has("line") == node.has("polygon")) node.fail("an obstacle needs exactly one of \"line\" and \"polygon\"");
+  if (!friction && (node.has("friction") || node.has("k_t")))
+    node.fail("\"friction\" and \"k_t\" need effects.boundary_friction");
+  const bool closed = node.has("polygon");
+  Polyline shape{vertices(*node.find(closed ? "polygon" : "line")), closed};
+  ContactParameters c;
+  c.k_n = node.number("k_n", Range::positive());
+  c.k_t = friction ? node.number("k_t", Range::at_least(0)) : 0;
+  c.friction = friction ? node.number("friction", Range::at_least(0)) : 0;
+  c.damping_ratio = node.number_or("damping", 0.5, Range::between(0, 1, false, false));
+  const Vec2 velocity = node.has("velocity") ? vec2(node.at("velocity", "")) : Vec2::Zero();
+  const double removal = node.number_or("remove_at", kInfinity, Range::at_least(0));
+  return at_node(node, [&] { return Obstacle(std::move(shape), c, velocity, removal); });
+}
+
+Gravity read_gravity(const JsonNode& node) {
+  node.allow_only({"g", "ramp"});
+  Gravity g{vec2(node.at("g", "[g_x, g_y]")), std::nullopt};
+  if (const auto r = node.find("ramp")) {
+    r->allow_only({"from", "start", "end"});
+    GravityRamp ramp{r->has("from") ? vec2(r->at("from", "")) : Vec2::Zero(), r->number("start", Range::at_least(0)),
+                     r->number("end", Range::at_least(0))};
+    if (!(ramp.end > ramp.start)) r->fail("expected end > start");
+    g.ramp = ramp;
+  }
+  return g;
+}
+
+}  // namespace
+
+Scene load_scene(const std::filesystem::path& file) {
+  const nlohmann::json doc = common::load_json_file(file);
+  const JsonNode root(doc, file.filename().string());
+  root.require_object();
+  root.allow_only({"grid", "time", "integration", "effects", "gravity", "materials", "regions", "obstacles",
+                   "tracked_points"});
+  const std::filesystem::path folder = file.parent_path();
+
+  Scene scene;
+  const JsonNode time = root.at("time", "an object with end and output_interval");
+  time.allow_only({"end", "output_interval", "series_interval", "max_time_step", "cfl", "contact_factor"});
+  scene.end_time = time.number("end", Range::positive());
+  scene.output_interval = time.number("output_interval", Range::positive());
+  scene.series_interval = time.number_or("series_interval", scene.output_interval, Range::positive());
+
+  SolverSettings settings;
+  settings.max_time_step = time.number_or("max_time_step", kInfinity, Range::positive());
+  settings.time_step.cfl = time.number_or("cfl", settings.time_step.cfl, Range::between(0, 1, true, false));
+  settings.time_step.contact = time.number_or("contact_factor", settings.time_step.contact, Range::between(0, 1, true, false));
+  if (const auto integration = root.find("integration")) {
+    integration->allow_only({"flip", "sort_interval"});
+    settings.flip = integration->number_or("flip", settings.flip, Range::between(0, 1, false, false));
+    settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
+  }
+  const JsonNode grid = root.at("grid", "an object with cell_size and cells");
+  scene.solver = std::make_unique<Solver>(at_node(grid, [&] { return read_grid(grid); }), settings);
+
+  bool gravity = false, boundary_friction = false;
+  if (const auto effects = root.find("effects")) {
+    effects->allow_only({"gravity", "boundary_friction"});
+    gravity = effects->boolean_or("gravity", false);
+    boundary_friction = effects->boolean_or("boundary_friction", false);
+  }
+  if (gravity != root.has("gravity"))
+    root.fail(gravity ? "effects.gravity is on but there is no \"gravity\" block"
+                      : "a \"gravity\" block needs effects.gravity");
+  if (gravity) scene.solver->set_gravity(read_gravity(root.at("gravity", "")));
+
+  const JsonNode materials = root.at("materials", "a non-empty array of materials");
+  const std::size_t n_materials = materials.array_size("a non-empty array of materials");
+  if (n_materials == 0) materials.fail_expected("a non-empty array of materials");
+  for (std::size_t k = 0; k < n_materials; ++k) {
+    const JsonNode m = materials.at(k);
+    const std::string name = m.at("name", "a material name (string)").string();
+    if (std::find(scene.material_names.begin(), scene.material_names.end(), name) != scene.material_names.end())
+      m.at("name", "").fail("duplicate material name");
+    scene.solver->add_law(read_law(m, folder));
+    scene.material_names.push_back(name);
+  }
+  const JsonNode regions = root.at("regions", "a non-empty array of regions");
+  const std::size_t n_regions = regions.array_size("a non-empty array of regions");
+  if (n_regions == 0) regions.fail_expected("a non-empty array of regions");
+  for (std::size_t k = 0; k < n_regions; ++k) read_region(regions.at(k), *scene.solver, scene.material_names);
+
+  if (const auto obstacles = root.find("obstacles"))
+    for (std::size_t k = 0, n = obstacles->array_size("an array of obstacles"); k < n; ++k)
+      scene.solver->add_obstacle(read_obstacle(obstacles->at(k), boundary_friction));
+
+  if (const auto tracked = root.find("tracked_points"))
+    for (std::size_t k = 0, n = tracked->array_size("an array of [x, y] positions"); k < n; ++k) {
+      // The material point nearest to the given position at t = 0.
+      const Vec2 x = vec2(tracked->at(k));
+      const auto& points = scene.solver->points();
+      const auto nearest = std::min_element(points.begin(), points.end(), [&](const auto& a, const auto& b) {
+        return (a.position - x).squaredNorm() < (b.position - x).squaredNorm();
+      });
+      scene.tracked_points.push_back(nearest->id);
+    }
+  return scene;
+}
+
+}  // namespace grainbank::mpm::io

@@ -1,0 +1,28 @@
+// SCENE.json → a ready-to-run solver plus what the run should write. The schema is documented in
+// README.md ("Scene JSON"); every error is a common::InputError naming the file and the JSON path.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/solver.hpp"
+
+namespace grainbank::mpm::io {
+
+struct Scene {
+  std::unique_ptr<Solver> solver;
+  double end_time = 0;
+  double output_interval = 0;  // VTU snapshots
+  double series_interval = 0;  // rows of the CSV time series and of the tracked points
+  std::vector<std::string> material_names;  // by law index
+  std::vector<std::uint32_t> tracked_points;  // point ids
+};
+
+// Reads and builds the scene (live cells are prepared or loaded here). Paths inside the scene are
+// relative to its folder.
+Scene load_scene(const std::filesystem::path& file);
+
+}  // namespace grainbank::mpm::io

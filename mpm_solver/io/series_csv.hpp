@@ -1,0 +1,35 @@
+// CSV outputs of a run: the time series of global measures and the history of tracked points.
+// Full precision, one header line, comma-separated.
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <vector>
+
+#include "core/solver.hpp"
+
+namespace grainbank::mpm::io {
+
+// Columns: t, dt (the last step), step, kinetic_energy, front, max_height, max_velocity, and the
+// time-step criteria of the next step: limit_wave (CFL), limit_contact, limit_law (seed Eq. 4).
+class SeriesCsv {
+ public:
+  explicit SeriesCsv(const std::filesystem::path& file);
+  void write(const Solver& solver, double last_dt);
+
+ private:
+  std::ofstream out_;
+};
+
+// Columns: t, point, x, y, vx, vy, sxx, syy, sxy, szz, p, q, strain_rate_q, damage, density.
+class TrackedCsv {
+ public:
+  TrackedCsv(const std::filesystem::path& file, std::vector<std::uint32_t> ids);
+  void write(const Solver& solver);
+
+ private:
+  std::ofstream out_;
+  std::vector<std::uint32_t> ids_;
+};
+
+}  // namespace grainbank::mpm::io

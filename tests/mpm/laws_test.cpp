@@ -1,0 +1,86 @@
+// Analytic laws: Hooke's law in plane strain, the Jaumann rotation of a stressed body, and the
+// Drucker–Prager return mapping (cone, cohesion, tension cut-off).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "core/drucker_prager_law.hpp"
+#include "core/elastic_law.hpp"
+#include "core/gravity.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+double sqrt_j2(const PointStress& s) { return deviatoric_stress_of(s) / std::sqrt(3.0); }
+
+TEST(ElasticLaw, PlaneStrainHooke) {
+  const Elasticity e{2e6, 0.25};
+  ElasticLaw law(1000, e);
+  PointStress s;
+  law.add_point(s);
+  Mat2 F = Mat2::Identity();
+  F(0, 0) += 1e-4;  // uniaxial strain ε_xx = 1e-4, ε_yy = ε_zz = 0
+  law.update(0, F, 1e-3, s);
+  const double lambda = e.young * e.poisson / ((1 + e.poisson) * (1 - 2 * e.poisson)), g = e.young / 2.5;
+  EXPECT_NEAR(s.in_plane(0, 0), (lambda + 2 * g) * 1e-4, 1e-9);
+  EXPECT_NEAR(s.in_plane(1, 1), lambda * 1e-4, 1e-9);
+  EXPECT_NEAR(s.zz, lambda * 1e-4, 1e-9);
+  EXPECT_NEAR(s.in_plane(0, 1), 0, 1e-12);
+}
+
+TEST(ElasticLaw, SmallRotationTurnsTheStress) {
+  ElasticLaw law(1000, Elasticity{1e6, 0.3});
+  PointStress s;
+  law.add_point(s);
+  s.in_plane << -100, 0, 0, 0;
+  const double angle = 1e-3;
+  Mat2 F;
+  F << 1, -angle, angle, 1;  // spin only, no stretching
+  law.update(0, F, 1e-3, s);
+  // First-order rotation of diag(-100, 0) by +angle: σ_xy = -100 · angle.
+  EXPECT_NEAR(s.in_plane(0, 1), -100 * angle, 1e-9);
+  EXPECT_NEAR(s.in_plane(0, 0), -100, 1e-9);
+}
+
+TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
+  const double phi = 30 * std::numbers::pi / 180, c = 1000;
+  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, phi, c, 500});
+  const double t = std::tan(phi), root = std::sqrt(9 + 12 * t * t), eta = 3 * t / root, xi = 3 / root;
+  PointStress trial;
+  trial.in_plane << -5000, 8000, 8000, -3000;
+  trial.zz = -4000;
+  const PointStress out = law.return_map(trial);
+  EXPECT_NEAR(pressure_of(out), pressure_of(trial), 1e-9);
+  EXPECT_NEAR(sqrt_j2(out), eta * pressure_of(trial) + xi * c, 1e-6);
+  // Radial return: the deviator keeps its direction.
+  EXPECT_NEAR(out.in_plane(0, 1) / (out.in_plane(0, 0) - out.in_plane(1, 1)),
+              trial.in_plane(0, 1) / (trial.in_plane(0, 0) - trial.in_plane(1, 1)), 1e-12);
+  // An admissible stress is left alone.
+  PointStress inside;
+  inside.in_plane << -5000, 100, 100, -4000;
+  inside.zz = -4500;
+  const PointStress same = law.return_map(inside);
+  EXPECT_NEAR((same.in_plane - inside.in_plane).norm(), 0, 1e-9);
+}
+
+TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {
+  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 300});
+  PointStress trial;
+  trial.in_plane << 2000, 0, 0, 1000;
+  trial.zz = 900;
+  const PointStress out = law.return_map(trial);
+  EXPECT_NEAR(pressure_of(out), -300, 1e-9);
+  EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6}), std::invalid_argument);
+}
+
+TEST(Gravity, RampStartsFromItsInitialValue) {
+  const Gravity g{Vec2(0, -10), GravityRamp{Vec2(0, -2), 1.0, 3.0}};
+  EXPECT_EQ(g.at(0.0), Vec2(0, -2));
+  EXPECT_EQ(g.at(1.0), Vec2(0, -2));
+  EXPECT_NEAR((g.at(2.0) - Vec2(0, -6)).norm(), 0, 1e-15);
+  EXPECT_EQ(g.at(5.0), Vec2(0, -10));
+}
+
+}  // namespace
+}  // namespace grainbank::mpm

@@ -1,0 +1,100 @@
+// The live MPM×DEM law: points of a homogeneously sheared block each drive their own DEM cell; the
+// stress, σ_zz and volume of a point equal those of a stand-alone dem::DemCell (a copy of the same
+// template) driven by the same increments, embedded in 3D as plane strain, to round-off. Also:
+// every point owns a distinct cell, and seed Eq. 4 limits the step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "cell/preparation.hpp"
+#include "core/live_dem_law.hpp"
+#include "mpm_test_util.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+dem::DemCell small_cohesive_cell() {
+  dem::Material m;
+  m.density = 920;
+  m.contact = {2000, 600, 0.3, 0.2, 0.5};
+  m.effects.bonds = true;
+  m.bond = {8e-4, 9.6e-4, 2, 0.05};
+  dem::PreparationSpec spec;
+  spec.spheres = 30;
+  spec.min_diameter = 3.4e-4;
+  spec.max_diameter = 4.0e-4;
+  spec.pressure = 1000;
+  spec.inertial_number = 0.01;
+  spec.seed = 5;
+  return dem::prepare_cell(m, spec);
+}
+
+TEST(LiveLaw, PointsReproduceStandAloneCellsDrivenByTheSameIncrements) {
+  const dem::DemCell cell_template = small_cohesive_cell();
+  LiveDemSettings settings;
+  settings.substepping = {0.1, 1, 0.2};
+  SolverSettings solver_settings;
+  solver_settings.flip = 0.0;
+  Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), solver_settings);
+  solver.add_law(std::make_unique<LiveDemLaw>(cell_template, settings));
+  // 6 × 6 points (2 per cell) in simple shear v_x = γ̇ (y - y_c), plus a little stretching.
+  for (int j = 0; j < 6; ++j)
+    for (int i = 0; i < 6; ++i) {
+      const Vec2 x(0.225 + 0.05 * i, 0.225 + 0.05 * j);
+      solver.add_point(0, x, 0.0025, 0.025, Vec2(2.0 * (x.y() - 0.35) + 0.5 * (x.x() - 0.35), 0));
+    }
+  const auto& law = dynamic_cast<const LiveDemLaw&>(solver.law(0));
+  const double v0 = law.cell(0).volume();
+  std::vector<dem::DemCell> reference;
+  for (std::size_t k = 0; k < solver.points().size(); ++k) reference.emplace_back(cell_template);
+
+  const double dt = 2e-4;
+  double max_shear_rate = 0;
+  for (int step = 0; step < 8; ++step) {
+    solver.step(dt);
+    for (const MaterialPoint& mp : solver.points()) {
+      max_shear_rate = std::max(max_shear_rate, std::abs(mp.velocity_gradient(0, 1)));
+      dem::DemCell& ref = reference[mp.slot];
+      const Mat2 increment = Mat2::Identity() + dt * mp.velocity_gradient;
+      const dem::Mat3 s = ref.advance(embed_plane_strain(increment), dt, settings.substepping).stress;
+      const double scale = std::abs(s.trace());
+      EXPECT_NEAR(mp.stress.in_plane(0, 0), s(0, 0), 1e-12 * scale);
+      EXPECT_NEAR(mp.stress.in_plane(1, 1), s(1, 1), 1e-12 * scale);
+      EXPECT_NEAR(mp.stress.in_plane(0, 1), 0.5 * (s(0, 1) + s(1, 0)), 1e-12 * scale);
+      EXPECT_NEAR(mp.stress.zz, s(2, 2), 1e-12 * scale);
+      EXPECT_NEAR(mp.volume, mp.initial_volume * ref.volume() / v0, 1e-12 * mp.volume);
+      EXPECT_EQ(law.damage(mp.slot), ref.measures().damage);
+    }
+  }
+  // The increments were not trivial, and differ from point to point (no shared cell).
+  std::printf("largest shear rate L_xy seen: %g 1/s\n", max_shear_rate);
+  EXPECT_GT(max_shear_rate, 0.5);
+  const MaterialPoint& a = solver.points().front();
+  double spread = 0;
+  for (const MaterialPoint& mp : solver.points()) spread = std::max(spread, (mp.stress.in_plane - a.stress.in_plane).norm());
+  EXPECT_GT(spread, 0);
+  for (std::size_t k = 1; k < solver.points().size(); ++k) EXPECT_NE(&law.cell(k), &law.cell(0));
+}
+
+TEST(LiveLaw, SeedEquation4LimitsTheStep) {
+  const dem::DemCell cell_template = small_cohesive_cell();
+  LiveDemSettings settings;
+  settings.q_h = 0.02;
+  LiveDemLaw law(cell_template, settings);
+  PointStress s;
+  law.add_point(s);
+  EXPECT_LT(pressure_of(s), 0.0 + 2000);  // prepared near p_0 = 1000 Pa
+  EXPECT_GT(pressure_of(s), 500);
+  Mat2 L;
+  L << 0, 3, 0, 0;  // ḣ = L h: only the x row moves, by 3 h_yj
+  const dem::Mat3 h = law.cell(0).cell_matrix();
+  const double rate = 3 * h.row(1).cwiseAbs().maxCoeff();
+  double d_min = 1;
+  for (double r : cell_template.radii()) d_min = std::min(d_min, 2 * r);
+  EXPECT_NEAR(law.time_step_limit(0, L), 0.02 * d_min / rate, 1e-15);
+  EXPECT_TRUE(std::isinf(law.time_step_limit(0, Mat2::Zero())));
+  EXPECT_GT(law.p_wave_modulus(0), 0);
+}
+
+}  // namespace
+}  // namespace grainbank::mpm

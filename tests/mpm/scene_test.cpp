@@ -1,0 +1,109 @@
+// Scene JSON: a valid scene builds the expected solver; errors name the file and JSON path; the
+// mpm_solver binary runs a tiny scene end to end and writes its VTU/PVD, CSV and summary files.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "common/json_input.hpp"
+#include "io/scene_input.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path write_file(const std::string& name, const std::string& text) {
+  const fs::path dir = fs::temp_directory_path() / "gb_mpm_scene_test";
+  fs::create_directories(dir);
+  std::ofstream(dir / name) << text;
+  return dir / name;
+}
+
+const char* kScene = R"({
+  "grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
+  "time": {"end": 0.02, "output_interval": 0.01},
+  "effects": {"gravity": true, "boundary_friction": true},
+  "gravity": {"g": [0, -9.81], "ramp": {"from": [0, -1], "start": 0, "end": 0.1}},
+  "materials": [
+    {"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3},
+    {"name": "b", "law": "drucker_prager", "density": 2000, "young": 1e6, "poisson": 0.3, "friction_angle": 30,
+     "cohesion": 100, "tensile_strength": 10}
+  ],
+  "regions": [
+    {"material": "a", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.4]}, "points_per_cell": 2},
+    {"material": "b", "polygon": [[0.5, 0.2], [0.7, 0.2], [0.5, 0.4]], "points_per_cell": 2}
+  ],
+  "obstacles": [{"line": [[0, 0.2], [1, 0.2]], "k_n": 1e6, "k_t": 1e6, "friction": 0.3, "remove_at": 1}],
+  "tracked_points": [[0.3, 0.3]]
+})";
+
+TEST(Scene, BuildsTheSolverItDescribes) {
+  const io::Scene scene = io::load_scene(write_file("ok.json", kScene));
+  const Solver& s = *scene.solver;
+  EXPECT_EQ(s.law_count(), 2u);
+  EXPECT_EQ(s.law(1).name(), "drucker_prager");
+  std::size_t a = 0, b = 0;
+  for (const MaterialPoint& mp : s.points()) (mp.law == 0 ? a : b)++;
+  EXPECT_EQ(a, 16u);  // 2 × 2 cells, 4 points each
+  EXPECT_GT(b, 0u);
+  EXPECT_LT(b, 16u);  // the triangle holds about half of its bounding box
+  EXPECT_EQ(s.obstacles().size(), 1u);
+  EXPECT_EQ(s.gravity().at(0), Vec2(0, -1));
+  ASSERT_EQ(scene.tracked_points.size(), 1u);
+  EXPECT_DOUBLE_EQ(scene.series_interval, 0.01);
+}
+
+void expect_error(const std::string& from, const std::string& to, const std::string& message) {
+  std::string text = kScene;
+  const auto at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from;
+  text.replace(at, from.size(), to);
+  try {
+    io::load_scene(write_file("bad.json", text));
+    FAIL() << "no error for " << to;
+  } catch (const common::InputError& e) {
+    EXPECT_EQ(std::string(e.what()), message);
+  }
+}
+
+TEST(Scene, ErrorsNameTheFileAndThePath) {
+  expect_error("\"young\": 1e6, \"poisson\": 0.3}", "\"young\": -5, \"poisson\": 0.3}",
+               "bad.json: /materials/0/young: expected a positive number, got -5");
+  expect_error("\"material\": \"a\"", "\"material\": \"c\"",
+               "bad.json: /regions/0/material: expected the name of a material, got a string (\"c\")");
+  expect_error("\"k_n\": 1e6,", "\"kn\": 1e6,",
+               "bad.json: /obstacles/0/kn: unknown key; allowed keys here: line, polygon, k_n, k_t, friction, "
+               "damping, velocity, remove_at");
+  expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
+               "bad.json: /materials/0/law: expected \"elastic\", \"drucker_prager\" or \"live\", got a string "
+               "(\"plastic\")");
+}
+
+TEST(Scene, CommandLineRunWritesAllOutputs) {
+  const fs::path scene = write_file("run.json", kScene);
+  const fs::path out = fs::temp_directory_path() / "gb_mpm_scene_test" / "out";
+  fs::remove_all(out);
+  const std::string cmd = std::string(MPM_SOLVER_BINARY) + " " + scene.string() + " --out " + out.string() +
+                          " --json > " + (out.parent_path() / "stdout.json").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  for (const char* f : {"points.pvd", "points_000000.vtu", "points_000002.vtu", "series.csv", "tracked_points.csv",
+                        "summary.json"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_NEAR(summary["final_time"].get<double>(), 0.02, 1e-12);
+  EXPECT_GT(summary["steps"].get<long>(), 0);
+  // A bad scene: one line on stderr naming the file, exit code 1.
+  const fs::path bad = write_file("missing.json", "{\"grid\": 1}");
+  const std::string bad_cmd = std::string(MPM_SOLVER_BINARY) + " " + bad.string() + " --out " + out.string() + " 2> " +
+                              (out.parent_path() / "stderr.txt").string();
+  EXPECT_NE(std::system(bad_cmd.c_str()), 0);
+  std::ifstream err(out.parent_path() / "stderr.txt");
+  std::string line;
+  std::getline(err, line);
+  EXPECT_EQ(line.rfind("mpm_solver: missing.json: ", 0), 0u) << line;
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
