@@ -10,6 +10,7 @@
 #include "cell/preparation.hpp"
 #include "lookup/lookup_index.hpp"
 #include "store/library.hpp"
+#include "common/temporary_directory.hpp"
 
 namespace grainbank::celldb {
 namespace {
@@ -17,22 +18,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
-class TemporaryDirectory {
- public:
-  TemporaryDirectory() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "celldb-bench-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("celldb bench: cannot create a temporary directory");
-    path_ = pattern;
-  }
-  ~TemporaryDirectory() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
 
 dem::Material bench_material() {
   dem::Material m;

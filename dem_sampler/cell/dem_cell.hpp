@@ -127,6 +127,9 @@ class DemCell {
   double kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new);
   template <bool Damped>
   void kick(double half_dt, const Mat3& L);
+  // Half a velocity-Verlet kick of sphere p (Lt = Lᵀ of the current velocity gradient).
+  template <bool Damped>
+  void kick_sphere(std::size_t p, double half_dt, const Mat3& Lt);
 
   Material material_;
   InteractionCoefficients coef_;

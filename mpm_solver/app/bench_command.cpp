@@ -7,6 +7,7 @@
 #include <random>
 
 #include "cell/preparation.hpp"
+#include "cell/snow_preset.hpp"
 #include "core/elastic_law.hpp"
 #include "core/live_dem_law.hpp"
 #include "core/seeding.hpp"
@@ -37,21 +38,7 @@ double elastic_rate(long points, long steps, int threads) {
 }
 
 // The snow-like cell of the seed (workflows/demo/cell.json): 125 bonded spheres, d ≈ 0.37 mm.
-dem::DemCell snow_cell() {
-  dem::Material m;
-  m.density = 920;
-  m.contact = {2000, 600, 0.3, 0.2, 0.5};
-  m.effects.bonds = true;
-  m.bond = {8e-4, 9.6e-4, 2, 0.05};
-  dem::PreparationSpec spec;
-  spec.spheres = 125;
-  spec.min_diameter = 3.4e-4;
-  spec.max_diameter = 4.0e-4;
-  spec.pressure = 1000;
-  spec.inertial_number = 0.01;
-  spec.seed = 1;
-  return dem::prepare_cell(m, spec);
-}
+dem::DemCell snow_cell() { return dem::prepare_cell(dem::snow_material(), dem::snow_preparation(125, 1)); }
 
 }  // namespace
 

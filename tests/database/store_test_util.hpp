@@ -9,27 +9,11 @@
 #include "cell/dem_cell.hpp"
 #include "cell/preparation.hpp"
 #include "store/library.hpp"
+#include "common/temporary_directory.hpp"
 
 namespace grainbank::db::test {
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "grainbank-db-test-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary directory");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = grainbank::TemporaryDirectory;
 
 // 0.8-1.2 mm grains, modest stiffness, bonds + rolling + kinetic stress on.
 inline dem::Material small_material() {

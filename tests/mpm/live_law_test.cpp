@@ -7,27 +7,14 @@
 #include <cmath>
 
 #include "cell/preparation.hpp"
+#include "cell/snow_preset.hpp"
 #include "core/live_dem_law.hpp"
 #include "mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {
 
-dem::DemCell small_cohesive_cell() {
-  dem::Material m;
-  m.density = 920;
-  m.contact = {2000, 600, 0.3, 0.2, 0.5};
-  m.effects.bonds = true;
-  m.bond = {8e-4, 9.6e-4, 2, 0.05};
-  dem::PreparationSpec spec;
-  spec.spheres = 30;
-  spec.min_diameter = 3.4e-4;
-  spec.max_diameter = 4.0e-4;
-  spec.pressure = 1000;
-  spec.inertial_number = 0.01;
-  spec.seed = 5;
-  return dem::prepare_cell(m, spec);
-}
+dem::DemCell small_cohesive_cell() { return dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5)); }
 
 TEST(LiveLaw, PointsReproduceStandAloneCellsDrivenByTheSameIncrements) {
   const dem::DemCell cell_template = small_cohesive_cell();

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "cell/preparation.hpp"
+#include "cell/snow_preset.hpp"
 #include "core/live_dem_law.hpp"
 #include "io/restart.hpp"
 #include "mpm_test_util.hpp"
@@ -12,21 +13,7 @@
 namespace grainbank::mpm {
 namespace {
 
-dem::DemCell small_cell() {
-  dem::Material m;
-  m.density = 920;
-  m.contact = {2000, 600, 0.3, 0.2, 0.5};
-  m.effects.bonds = true;
-  m.bond = {8e-4, 9.6e-4, 2, 0.05};
-  dem::PreparationSpec spec;
-  spec.spheres = 20;
-  spec.min_diameter = 3.4e-4;
-  spec.max_diameter = 4.0e-4;
-  spec.pressure = 1000;
-  spec.inertial_number = 0.01;
-  spec.seed = 9;
-  return dem::prepare_cell(m, spec);
-}
+dem::DemCell small_cell() { return dem::prepare_cell(dem::snow_material(), dem::snow_preparation(20, 9)); }
 
 // An elastic block and a few live points sliding on a frictional floor.
 Solver build(const dem::DemCell& cell) {

@@ -15,31 +15,11 @@
 #include <vector>
 
 #include "store/library.hpp"
+#include "common/temporary_directory.hpp"
 
 namespace grainbank::sampler::test {
 
-class TempDir {
- public:
-  TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "grainbank-sampler-test-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) throw std::runtime_error("cannot create a temporary directory");
-    path_ = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-  std::filesystem::path write(const std::string& name, const std::string& text) const {
-    std::ofstream(path_ / name) << text;
-    return path_ / name;
-  }
-
- private:
-  std::filesystem::path path_;
-};
+using TempDir = grainbank::TemporaryDirectory;
 
 // 64 spheres, soft contacts: a record interval of 2e-4 s is ~180 DEM steps.
 inline const char* const kCell = R"({
