@@ -37,7 +37,7 @@ void DemCell::compute_forces(double dt) {
         continue;
       }
       const double r = std::sqrt(r2);
-      const Vec3 n = l / r;
+      const Vec3 n = l * (1 / r);  // one division, not one per component
       const double gap = r - rsum;
       const double arm_i = ri + 0.5 * gap, arm_j = radius_[j] + 0.5 * gap;  // to the contact point
       const Vec3 wj = omega_[j];
