@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--k", bench.k, "Neighbours per query")->capture_default_str();
   bench_cmd->add_option("--queries", bench.queries, "kd-tree queries timed")->capture_default_str();
   bench_cmd->add_option("--brute-queries", bench.brute_queries, "Brute-force queries timed")->capture_default_str();
+  bench_cmd->add_option("--far-share", bench.far_share, "Share of queries anywhere in the sampled region (misses)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   bench_cmd->add_flag("--uniform", bench.uniform, "Uniformly random states instead of paths");
   bench_cmd->add_flag("--json", bench.json, "Print the figures as JSON");
 

@@ -104,17 +104,23 @@ LookupAnswer LookupIndex::answer(const LookupState& state, const LookupOptions& 
   const db::StateKey key = state_key(polar, state.L, state.damage, scales_);
   const std::shared_ptr<const IndexSnapshot> snapshot = snapshot_.load();
 
+  // Largest block first (blocks are kept in non-increasing size): its k-th best distance then
+  // bounds the search of every smaller block, which is usually pruned at its root.
   std::vector<Candidate> candidates;
-  candidates.reserve(options.k * (snapshot->blocks.size() + 1) + 64);
-  for (const auto& block : snapshot->blocks) {
-    if (brute_force)
-      block->nearest_brute_force(key, options.k, candidates);
-    else
-      block->nearest(key, options.k, candidates);
+  std::size_t n = 0;
+  if (brute_force) {
+    candidates.reserve(options.k * (snapshot->blocks.size() + 1) + 64);
+    for (const auto& block : snapshot->blocks) block->nearest_brute_force(key, options.k, candidates);
+    n = std::min(options.k, candidates.size());
+    std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(n), candidates.end(),
+                      [](const Candidate& a, const Candidate& b) { return a.distance2 < b.distance2; });
+  } else {
+    candidates.resize(std::min(options.k, snapshot->size));
+    NearestSet best(candidates.size(), candidates.data());
+    if (!candidates.empty())
+      for (const auto& block : snapshot->blocks) block->nearest(key, best);
+    n = best.size();
   }
-  const std::size_t n = std::min(options.k, candidates.size());
-  std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(n), candidates.end(),
-                    [](const Candidate& a, const Candidate& b) { return a.distance2 < b.distance2; });
 
   LookupAnswer result;
   result.neighbours = n;

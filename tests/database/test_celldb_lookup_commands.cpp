@@ -1,14 +1,42 @@
 // `celldb query` and the key coverage of `celldb info` on a real library.
 #include <gtest/gtest.h>
 
+#include <regex>
 #include <sstream>
 
+#include "celldb/bench_command.hpp"
 #include "celldb/info_command.hpp"
 #include "celldb/query_command.hpp"
 #include "lookup_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {
+
+TEST(CelldbLookupCommands, BenchPrintsTheLookupLineAndAgreesWithBruteForce) {
+  celldb::BenchOptions options;
+  options.records = 3000;
+  options.queries = 400;
+  options.brute_queries = 40;
+  std::ostringstream text;
+  ASSERT_EQ(celldb::run_bench(options, text), 0);
+  const std::string first = text.str().substr(0, text.str().find('\n'));
+  EXPECT_TRUE(std::regex_match(first, std::regex(R"(lookup us/query: [0-9.e+-]+ \(brute force: [0-9.e+-]+\))"))) << first;
+  EXPECT_NE(text.str().find("insert records/s: "), std::string::npos);
+  EXPECT_NE(text.str().find("open time: "), std::string::npos);
+  EXPECT_NE(text.str().find("DESIGN.md"), std::string::npos);
+
+  options.json = true;
+  std::ostringstream json;
+  ASSERT_EQ(celldb::run_bench(options, json), 0);
+  const nlohmann::json figures = nlohmann::json::parse(json.str());
+  EXPECT_EQ(figures["records"], 3000);
+  EXPECT_EQ(figures["brute_force_agreement"], 1.0);  // exact: same nearest, distance and hit/miss
+  EXPECT_NEAR(figures["far_share"].get<double>(), 0.2, 1e-12);
+  for (const char* key : {"lookup_us_per_query", "lookup_us_per_query_near_paths", "lookup_us_per_query_far",
+                          "brute_force_us_per_query", "insert_records_per_s", "open_s"})
+    EXPECT_GT(figures[key].get<double>(), 0.0) << key;
+  EXPECT_EQ(figures["baseline"]["lookup_us_per_query"], 9.0);
+}
 
 TEST(CelldbLookupCommands, QueryAnswersAStateGivenAsJson) {
   TempDir tmp;

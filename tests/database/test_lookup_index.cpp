@@ -156,6 +156,44 @@ TEST(LookupIndex, MatchesBruteForceOnRandomData) {
   }
 }
 
+// Path-like keys (dense along curves, as a sampled library), inserted in many blocks of uneven
+// size: the search of each block starts from the k-th best distance of the larger blocks before it
+// and must still return exactly the scan's neighbours, near the paths (hits) and far from them.
+TEST(LookupIndex, MatchesBruteForceOnPathDataAcrossManyBlocks) {
+  LookupIndex index(db::KeyScales{1e-2, 1.0, 0.05});
+  std::mt19937_64 rng(31);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<db::Record> all;
+  std::int64_t path = 0;
+  for (std::size_t length : {900, 50, 400, 3, 1200, 77, 600, 1, 250, 30}) {
+    dem::Mat3 L = dem::Mat3::Zero();
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) L(i, j) = u(rng);
+    std::vector<db::Record> records;
+    for (std::size_t k = 0; k < length; ++k) records.push_back(db::test::path_record(L, 5e-5 * static_cast<double>(k + 1), 1e-4 * static_cast<double>(k)));
+    index.insert(++path, 0, records);
+    all.insert(all.end(), records.begin(), records.end());
+  }
+  ASSERT_EQ(index.size(), all.size());
+  std::normal_distribution<double> n;
+  for (int q = 0; q < 400; ++q) {
+    LookupState probe = state_of(all[static_cast<std::size_t>(q * 7919) % all.size()]);
+    const double off = q % 4 == 0 ? 3.0 : 0.1;  // a quarter far from every path
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j) probe.L(i, j) += off * n(rng);
+    probe.damage += off * 0.05 * n(rng);
+    for (std::size_t k : {1, 4, 9}) {
+      const LookupAnswer fast = index.query(probe, {k, 0.5});
+      const LookupAnswer slow = index.query_brute_force(probe, {k, 0.5});
+      EXPECT_EQ(fast.nearest, slow.nearest) << q << " k " << k;
+      EXPECT_EQ(fast.distance, slow.distance);
+      EXPECT_EQ(fast.hit, slow.hit);
+      EXPECT_EQ(fast.neighbours, slow.neighbours);
+      EXPECT_LT(relative_difference(fast.stress, slow.stress), 1e-12);
+    }
+  }
+}
+
 TEST(LookupIndex, ConcurrentQueriesDuringInsertionMatchSerialAnswers) {
   LookupIndex index(db::KeyScales{0.02, 0.5, 0.1});
   index.insert(-1, 0, random_records(20000, 21));
