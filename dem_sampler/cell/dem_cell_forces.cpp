@@ -14,79 +14,69 @@ void DemCell::compute_forces(double dt) {
   std::int64_t active = 0;
   const Mat3 L = L_;
   const std::size_t count = pairs_.size();
-  std::size_t k = 0;
-  while (k < count) {
-    // Pairs are sorted by i: sphere i's data stays in registers and its force is written once.
-    const std::uint32_t i = pairs_[k].i;
-    const Vec3 xi = x_[i], ui = u_[i], wi = omega_[i];
-    const double ri = radius_[i];
-    Vec3 fi = Vec3::Zero(), ti = Vec3::Zero();
-    for (; k < count && pairs_[k].i == i; ++k) {
-      Pair& p = pairs_[k];
-      const std::uint32_t j = p.j;
-      const Vec3 l = x_[j] - xi + shift_[p.image];  // branch vector ℓ from i to the image of j
-      const double r2 = l.squaredNorm();
-      const double rsum = ri + radius_[j];
-      const bool touching = r2 < rsum * rsum;
-      bool bonded = false;
-      if constexpr (Bonds) bonded = bonds_[k].intact;
-      if (!touching && !bonded) {
-        // Contact lost: forget its history (written only when there is some, to spare memory traffic).
-        if (p.ft[0] != 0 || p.ft[1] != 0 || p.ft[2] != 0) p.ft.setZero();
-        if constexpr (Rolling) rolling_[k].setZero();
-        continue;
-      }
-      const double r = std::sqrt(r2);
-      const Vec3 n = l * (1 / r);  // one division, not one per component
-      const double gap = r - rsum;
-      const double arm_i = ri + 0.5 * gap, arm_j = radius_[j] + 0.5 * gap;  // to the contact point
-      const Vec3 wj = omega_[j];
-      // Velocity of j's contact point relative to i's: fluctuations, affine field L ℓ, and spins.
-      const Vec3 v = u_[j] - ui + L * l - (arm_i * wi + arm_j * wj).cross(n);
-      const double vn = v.dot(n);
-      const Vec3 slip = (v - vn * n) * dt;
-      const double twist = 0.5 * dt * (wi + wj).dot(n);
+  for (std::size_t k = 0; k < count; ++k) {
+    Pair& p = pairs_[k];
+    const std::uint32_t i = p.i, j = p.j;
+    const Vec3 l = x_[j] - x_[i] + shift_[p.image];  // branch vector ℓ from i to the image of j
+    const double r2 = l.squaredNorm();
+    const double ri = radius_[i], rj = radius_[j], rsum = ri + rj;
+    const bool touching = r2 < rsum * rsum;
+    bool bonded = false;
+    if constexpr (Bonds) bonded = bonds_[k].intact;
+    if (!touching && !bonded) {
+      // Contact lost: forget its history (written only when there is some, to spare memory traffic).
+      if (p.ft[0] != 0 || p.ft[1] != 0 || p.ft[2] != 0) p.ft.setZero();
+      if constexpr (Rolling) rolling_[k].setZero();
+      continue;
+    }
+    const double r = std::sqrt(r2);
+    const Vec3 n = l * (1 / r);  // one division, not one per component
+    const double gap = r - rsum;
+    const double arm_i = ri + 0.5 * gap, arm_j = rj + 0.5 * gap;  // to the contact point
+    const Vec3 wi = omega_[i], wj = omega_[j];
+    // Velocity of j's contact point relative to i's: fluctuations, affine field L ℓ, and spins.
+    const Vec3 v = u_[j] - u_[i] + L * l - (arm_i * wi + arm_j * wj).cross(n);
+    const double vn = v.dot(n);
+    const Vec3 slip = (v - vn * n) * dt;
+    const double twist = 0.5 * dt * (wi + wj).dot(n);
 
-      double fn = 0, fn_contact = 0;
-      Vec3 ft = Vec3::Zero();
-      if (touching) {
-        fn_contact = contact_normal_force(coef_, gap, vn, p.damping);
-        update_friction(coef_, n, twist, slip, fn_contact, p.ft);
-        fn = fn_contact;
-        ft = p.ft;
-      } else {
-        p.ft.setZero();
-      }
-      if constexpr (Bonds) {
-        if (bonded) {
-          const bool holds = add_bond_force(coef_, bonds_[k], gap, n, twist, slip, fn, ft);
-          if (holds && !touching) fn -= p.damping * vn;  // the dashpot acts once per pair
-          if (!holds && !touching) continue;
-        }
-      }
-      const Vec3 f = fn * n + ft;  // force on j; i receives -f
-      force_[j] += f;
-      fi -= f;
-      const Vec3 n_x_ft = n.cross(ft);
-      ti -= arm_i * n_x_ft;
-      torque_[j] -= arm_j * n_x_ft;
-      if constexpr (Rolling) {
-        if (touching) {
-          update_rolling_moment(coef_, (wj - wi) * dt, ri * radius_[j] / rsum, fn_contact, rolling_[k]);
-          torque_[j] += rolling_[k];
-          ti -= rolling_[k];
-        } else {
-          rolling_[k].setZero();
-        }
-      }
-      if constexpr (Measure) {
-        love_weber.noalias() += f * l.transpose();
-        sum_force += f.norm();
-        ++active;
+    double fn = 0, fn_contact = 0;
+    Vec3 ft = Vec3::Zero();
+    if (touching) {
+      fn_contact = contact_normal_force(coef_, gap, vn, p.damping);
+      update_friction(coef_, n, twist, slip, fn_contact, p.ft);
+      fn = fn_contact;
+      ft = p.ft;
+    } else {
+      p.ft.setZero();
+    }
+    if constexpr (Bonds) {
+      if (bonded) {
+        const bool holds = add_bond_force(coef_, bonds_[k], gap, n, twist, slip, fn, ft);
+        if (holds && !touching) fn -= p.damping * vn;  // the dashpot acts once per pair
+        if (!holds && !touching) continue;
       }
     }
-    force_[i] += fi;
-    torque_[i] += ti;
+    const Vec3 f = fn * n + ft;  // force on j; i receives -f
+    force_[j] += f;
+    force_[i] -= f;
+    const Vec3 n_x_ft = n.cross(ft);
+    torque_[i] -= arm_i * n_x_ft;
+    torque_[j] -= arm_j * n_x_ft;
+    if constexpr (Rolling) {
+      if (touching) {
+        update_rolling_moment(coef_, (wj - wi) * dt, ri * rj / rsum, fn_contact, rolling_[k]);
+        torque_[j] += rolling_[k];
+        torque_[i] -= rolling_[k];
+      } else {
+        rolling_[k].setZero();
+      }
+    }
+    if constexpr (Measure) {
+      love_weber.noalias() += f * l.transpose();
+      sum_force += f.norm();
+      ++active;
+    }
   }
   if constexpr (Measure) {
     stress_ = -love_weber / cell_volume(h_);
