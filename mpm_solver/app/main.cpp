@@ -32,11 +32,15 @@ int bench_main(int argc, char** argv) {
 
 int run_main(int argc, char** argv) {
   CLI::App cli("mpm_solver: 2D plane-strain MPM with analytic and live DEM laws\n"
-               "usage: mpm_solver SCENE.json [--out DIR] [--restart FILE] [--threads N] [--json] | mpm_solver bench --help");
+               "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--out DIR] [--restart FILE] [--threads N] "
+               "[--json] | mpm_solver bench --help");
   RunOptions o;
   int threads = 0;
   bool json = false;
   cli.add_option("scene", o.scene, "scene JSON file")->required();
+  cli.add_option("--law", o.overrides.law,
+                 "law of every DEM-backed material (live, cache, hybrid): live, cache or hybrid");
+  cli.add_option("--library", o.overrides.library, "cell library of every DEM-backed material (replaces \"cell\")");
   cli.add_option("--out", o.out, "output folder (default mpm_out)");
   cli.add_option("--restart", o.restart, "resume from a restart file written by an earlier run of this scene");
   cli.add_option("--threads", threads, "OpenMP threads (default: all)")->check(CLI::PositiveNumber);

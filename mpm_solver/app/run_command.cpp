@@ -9,9 +9,12 @@
 #include <limits>
 #include <optional>
 
+#include "io/coupling_report.hpp"
 #include "io/restart.hpp"
 #include "io/scene_input.hpp"
+#include "common/json_input.hpp"
 #include "io/series_csv.hpp"
+#include "io/tracked_cells.hpp"
 #include "io/vtu_writer.hpp"
 
 namespace grainbank::mpm::app {
@@ -37,20 +40,38 @@ nlohmann::json phases_json(const PhaseTimes& p) {
           {"stress", p.stress},             {"sort", p.sort}};
 }
 
+// The scene of the run: the file itself, or with --law/--library its rewritten JSON, kept in the
+// output folder under the scene's own name (so that loader errors name the same file and key).
+io::Scene load_scene(const RunOptions& o) {
+  if (!o.overrides.any()) return io::load_scene(o.scene);
+  const nlohmann::json doc =
+      apply_overrides(common::load_json_file(o.scene), o.scene.parent_path(), o.overrides);
+  const std::filesystem::path rewritten = o.out / "scene" / o.scene.filename();
+  std::filesystem::create_directories(rewritten.parent_path());
+  std::ofstream(rewritten) << doc.dump(2) << '\n';
+  try {
+    return io::load_scene(rewritten);
+  } catch (const common::InputError& e) {
+    throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by --law/--library: " +
+                             rewritten.string() + ")");
+  }
+}
+
 }  // namespace
 
 nlohmann::json run_scene(const RunOptions& options) {
   const Clock::time_point start = Clock::now();
-  io::Scene scene = io::load_scene(options.scene);
+  std::filesystem::create_directories(options.out);
+  io::Scene scene = load_scene(options);
   Solver& solver = *scene.solver;
   if (!options.restart.empty()) io::read_restart(options.restart, solver);
   const double setup_time = seconds_since(start);
 
-  std::filesystem::create_directories(options.out);
   io::PvdCollection pvd(options.out / "points.pvd");
   io::SeriesCsv series(options.out / "series.csv");
   std::optional<io::TrackedCsv> tracked;
   if (!scene.tracked_points.empty()) tracked.emplace(options.out / "tracked_points.csv", scene.tracked_points);
+  io::TrackedCells tracked_cells(options.out / "cells", scene.tracked_points);
 
   double output_time = 0;
   long snapshots = 0;
@@ -60,6 +81,7 @@ nlohmann::json run_scene(const RunOptions& options) {
     std::snprintf(name, sizeof name, "points_%06ld.vtu", snapshots++);
     io::write_vtu(options.out / name, solver);
     pvd.add(solver.time(), name);
+    tracked_cells.write(solver, snapshots - 1);
     output_time += seconds_since(t0);
   };
   const auto record = [&](double dt) {
@@ -107,6 +129,8 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"wall_time", {{"total", seconds_since(start)}, {"setup", setup_time}, {"steps", run_time - output_time},
                      {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
       {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0}};
+  // Closes the run's enriched paths and reports hits, misses and skipped point-steps per law.
+  summary["coupling"] = io::finish_coupling(solver);
   std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';
   return summary;
 }

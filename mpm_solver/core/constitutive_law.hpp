@@ -1,11 +1,12 @@
 // The one interface behind which every constitutive law of the MPM sits (elastic, Drucker–Prager,
-// live DEM). A law owns the state of all its points, addressed by slot; distinct slots may be
+// live DEM, and the library-backed cache and hybrid laws of coupling/). A law owns the state of all its points, addressed by slot; distinct slots may be
 // updated concurrently, so update() must only touch its own slot.
 #pragma once
 #include <cstddef>
 #include <limits>
 #include <string>
 
+#include "coupling_status.hpp"
 #include "types.hpp"
 
 namespace grainbank::mpm {
@@ -14,7 +15,7 @@ class ConstitutiveLaw {
  public:
   virtual ~ConstitutiveLaw() = default;
 
-  // "elastic", "drucker_prager", "live".
+  // "elastic", "drucker_prager", "live", "cache", "hybrid".
   virtual std::string name() const = 0;
   // Density of new points [kg/m³] (for a live law: of its cell, spheres and voids).
   virtual double density() const = 0;
@@ -36,7 +37,18 @@ class ConstitutiveLaw {
   // Seed Eq. 6 damage D of the point (0 for laws without bonds).
   virtual double damage(std::size_t /*slot*/) const { return 0; }
   // True when an update costs far more than a few flops (the solver then schedules dynamically).
+  // Asked every step: a law may become expensive (a hybrid law once some of its points are live).
   virtual bool expensive() const { return false; }
+
+  // What answered the last update of `slot`, and the error the library estimates for that answer
+  // (0 unless it came from a lookup) [Pa].
+  virtual StressSource source(std::size_t /*slot*/) const { return StressSource::analytic; }
+  virtual double estimated_error(std::size_t /*slot*/) const { return 0; }
+  // Lookups, live cells and enrichment so far (zero for laws that use no library).
+  virtual CouplingCounters counters() const { return {}; }
+  // Ends the run: writes what the law still holds (e.g. live responses for the library). Called once,
+  // after the last step; throws with context when that fails.
+  virtual void finish() {}
 };
 
 // Small-strain increment and spin of an in-plane increment: F_inc = I + dε + dω.

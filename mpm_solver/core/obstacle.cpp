@@ -20,7 +20,6 @@ Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, dou
 
 Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass,
                              double t, double dt) {
-  double& ft = tangential_[id];
   // Work in the obstacle's frame: it only translates.
   const Vec2 x_local = x - velocity_ * t;
   const Vec2 to_point = x_local - closest_point(shape_, x_local);
@@ -28,7 +27,7 @@ Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, dou
   const bool inside = contains(shape_, x_local);
   const double overlap = inside ? radius + d : radius - d;
   if (overlap <= 0 || d == 0) {
-    ft = 0;
+    if (contact_.friction > 0) tangential_[id] = 0;
     return Vec2::Zero();
   }
   // Unit normal pushing the point out of the obstacle.
@@ -39,6 +38,7 @@ Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, dou
   if (contact_.friction == 0) return fn * n;
   const Vec2 tangent(-n.y(), n.x());
   const double cap = contact_.friction * fn;
+  double& ft = tangential_[id];
   ft = std::clamp(ft - contact_.k_t * v_rel.dot(tangent) * dt, -cap, cap);
   return fn * n + ft * tangent;
 }

@@ -29,8 +29,10 @@ class Obstacle {
   const ContactParameters& contact() const { return contact_; }
   const Vec2& velocity() const { return velocity_; }
 
-  // Sizes the tangential history for point ids [0, count).
-  void reserve_points(std::size_t count) { tangential_.resize(count, 0.0); }
+  // Sizes the tangential history for point ids [0, count); a frictionless obstacle keeps none.
+  void reserve_points(std::size_t count) {
+    if (contact_.friction > 0) tangential_.resize(count, 0.0);
+  }
 
   // Tangential contact forces by point id (restart files).
   const std::vector<double>& tangential_history() const { return tangential_; }

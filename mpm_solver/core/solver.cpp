@@ -1,10 +1,13 @@
 #include "solver.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <exception>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+
+#include <Eigen/Geometry>
 
 #include "parallel.hpp"
 
@@ -25,12 +28,13 @@ Solver::Solver(Grid grid, SolverSettings settings)
   if (!(settings_.flip >= 0 && settings_.flip <= 1)) throw std::invalid_argument("flip: expected a number in [0, 1]");
   if (!(settings_.time_step.cfl > 0) || !(settings_.time_step.contact > 0))
     throw std::invalid_argument("time-step factors must be positive");
+  if (!(settings_.skip_strain_increment >= 0))
+    throw std::invalid_argument("skip_strain_increment: expected a number >= 0");
   if (!(settings_.max_time_step > 0)) throw std::invalid_argument("max_time_step: expected a positive number");
   if (settings_.sort_interval < 1) throw std::invalid_argument("sort_interval: expected an integer >= 1");
 }
 
 std::size_t Solver::add_law(std::unique_ptr<ConstitutiveLaw> law) {
-  any_expensive_law_ = any_expensive_law_ || law->expensive();
   laws_.push_back(std::move(law));
   return laws_.size() - 1;
 }
@@ -129,10 +133,16 @@ void Solver::apply_obstacle_contacts(double dt) {
 
 void Solver::update_stresses(double dt) {
   const long n = static_cast<long>(points_.size());
-  // Live DEM points cost milliseconds each and unevenly: hand them out one at a time.
-  const int chunk = any_expensive_law_ ? 1 : 256;
+  // Live DEM points cost milliseconds each and unevenly: hand them out one at a time. Cheap updates
+  // of few points run serially: waking threads would cost more than the work (on a busy machine,
+  // a scheduler quantum per step).
+  const bool any_expensive_law =
+      std::any_of(laws_.begin(), laws_.end(), [](const auto& law) { return law->expensive(); });
+  const int chunk = any_expensive_law ? 1 : 256;
+  const double skip = settings_.skip_strain_increment;
+  long skipped = 0;
   std::exception_ptr failure;
-#pragma omp parallel for schedule(dynamic, chunk) if (any_expensive_law_ || n >= kMinParallelItems)
+#pragma omp parallel for schedule(dynamic, chunk) reduction(+ : skipped) if (any_expensive_law || n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
     try {
@@ -140,7 +150,18 @@ void Solver::update_stresses(double dt) {
       mp.velocity_gradient = velocity_gradient(grid_, stencils_[p]);
       const Mat2 increment = Mat2::Identity() + dt * mp.velocity_gradient;
       mp.deformation_gradient = increment * mp.deformation_gradient;
-      law.update(mp.slot, increment, dt, mp.stress);
+      const Mat2 pending = increment * mp.pending_increment;
+      if (skip > 0 && strain_increment(pending).norm() < skip) {
+        // Nothing worth a constitutive call happened: the stress only turns with the material. The
+        // law receives the composed increment later, so the deformation it sees is not lost.
+        const Eigen::Rotation2Dd spin(spin_increment(increment)(1, 0));
+        mp.stress.in_plane = spin.toRotationMatrix() * mp.stress.in_plane * spin.toRotationMatrix().transpose();
+        mp.pending_increment = pending;
+        ++skipped;
+      } else {
+        law.update(mp.slot, pending, dt, mp.stress);
+        mp.pending_increment.setIdentity();
+      }
       mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
     } catch (const std::exception& e) {
 #pragma omp critical(mpm_stress_failure)
@@ -153,6 +174,8 @@ void Solver::update_stresses(double dt) {
     }
   }
   if (failure) std::rethrow_exception(failure);
+  skipped_updates_ += skipped;
+  point_updates_ += n;
 }
 
 }  // namespace grainbank::mpm

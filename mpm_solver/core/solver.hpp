@@ -20,6 +20,9 @@ struct SolverSettings {
   TimeStepFactors time_step;
   double max_time_step = std::numeric_limits<double>::infinity();
   int sort_interval = 20;         // re-sort points by cell every this many steps (memory locality)
+  // A point whose strain increment (composed over the steps it skipped) has a norm below this skips
+  // the constitutive call: its stress only turns with the spin. 0 = never skip.
+  double skip_strain_increment = 0;
 };
 
 // Wall time spent in each part of the step [s], summed over steps.
@@ -57,6 +60,9 @@ class Solver {
   const Gravity& gravity() const { return gravity_; }
   const SolverSettings& settings() const { return settings_; }
   const PhaseTimes& phase_times() const { return phase_times_; }
+  // Point-steps that skipped the constitutive call (skip_strain_increment), and all point-steps.
+  long skipped_updates() const { return skipped_updates_; }
+  long point_updates() const { return point_updates_; }
 
   // Restart support: mutable access to the laws and obstacles (whose states a restart file
   // restores), and replacement of the time, step count and points of a solver built from the same
@@ -81,7 +87,7 @@ class Solver {
   ScatterBuffers buffers_;
   double time_ = 0;
   long steps_ = 0;
-  bool any_expensive_law_ = false;
+  long skipped_updates_ = 0, point_updates_ = 0;
   PhaseTimes phase_times_;
 };
 

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/live_dem_law.hpp"
+#include "coupling/library_law.hpp"
 #include "store/cell_state_io.hpp"
 #include "store/hdf5_handle.hpp"
 
@@ -13,17 +14,19 @@ namespace h5 = db::h5;
 
 namespace {
 
-constexpr hsize_t kColumns = 24;
+constexpr hsize_t kColumns = 28;
 
-// id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz.
+// id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz, pending
+// increment (4).
 void append_row(std::vector<double>& rows, const MaterialPoint& mp) {
   const Mat2& F = mp.deformation_gradient;
   const Mat2& L = mp.velocity_gradient;
   const Mat2& s = mp.stress.in_plane;
+  const Mat2& P = mp.pending_increment;
   rows.insert(rows.end(), {double(mp.id), double(mp.law), double(mp.slot), mp.mass, mp.initial_volume, mp.volume,
                            mp.radius, mp.position.x(), mp.position.y(), mp.velocity.x(), mp.velocity.y(), F(0, 0),
                            F(0, 1), F(1, 0), F(1, 1), L(0, 0), L(0, 1), L(1, 0), L(1, 1), s(0, 0), s(0, 1), s(1, 0),
-                           s(1, 1), mp.stress.zz});
+                           s(1, 1), mp.stress.zz, P(0, 0), P(0, 1), P(1, 0), P(1, 1)});
 }
 
 MaterialPoint point_from_row(const double* r) {
@@ -38,12 +41,17 @@ MaterialPoint point_from_row(const double* r) {
   mp.velocity_gradient << r[15], r[16], r[17], r[18];
   mp.stress.in_plane << r[19], r[20], r[21], r[22];
   mp.stress.zz = r[23];
+  mp.pending_increment << r[24], r[25], r[26], r[27];
   return mp;
 }
 
 std::string cell_group(std::size_t law, std::size_t slot) {
   return "law_" + std::to_string(law) + "_cell_" + std::to_string(slot);
 }
+
+// Per point of a cache/hybrid law: slot, F (4), damage, live (0/1); live cells as cell groups.
+constexpr hsize_t kLibraryColumns = 7;
+std::string library_points(std::size_t law) { return "law_" + std::to_string(law) + "_library_points"; }
 
 void write_contents(const h5::Object& root, const Solver& solver) {
   h5::write_attribute(root, "time", solver.time());
@@ -63,6 +71,20 @@ void write_contents(const h5::Object& root, const Solver& solver) {
       const dem::DemCell& cell = live->cell(mp.slot);
       db::write_cell_state(h5::create_group(root, cell_group(mp.law, mp.slot)), db::StoredCell{cell.state(), cell.skin()});
     }
+  for (std::size_t k = 0; k < solver.law_count(); ++k) {
+    const auto* law = dynamic_cast<const LibraryLaw*>(&solver.law(k));
+    if (!law) continue;
+    std::vector<double> rows;
+    for (const MaterialPoint& mp : solver.points()) {
+      if (mp.law != k) continue;
+      const Mat2& F = law->deformation_gradient(mp.slot);
+      const dem::DemCell* cell = law->live_cell(mp.slot);
+      rows.insert(rows.end(), {double(mp.slot), F(0, 0), F(0, 1), F(1, 0), F(1, 1), law->damage(mp.slot), cell ? 1.0 : 0.0});
+      if (cell)
+        db::write_cell_state(h5::create_group(root, cell_group(k, mp.slot)), db::StoredCell{cell->state(), cell->skin()});
+    }
+    h5::write_array(root, library_points(k), rows, kLibraryColumns);
+  }
 }
 
 }  // namespace
@@ -100,6 +122,19 @@ void read_restart(const std::filesystem::path& file, Solver& solver) {
   for (const MaterialPoint& mp : points)
     if (auto* live = dynamic_cast<LiveDemLaw*>(&solver.law(mp.law)))
       live->restore_cell(mp.slot, db::read_cell_state(h5::open_group(root, cell_group(mp.law, mp.slot))).state);
+  for (std::size_t k = 0; k < solver.law_count(); ++k) {
+    auto* law = dynamic_cast<LibraryLaw*>(&solver.law(k));
+    if (!law) continue;
+    const std::vector<double> rows = h5::read_array<double>(root, library_points(k), kLibraryColumns);
+    for (std::size_t r = 0; r < rows.size(); r += kLibraryColumns) {
+      const auto slot = static_cast<std::size_t>(rows[r]);
+      Mat2 F;
+      F << rows[r + 1], rows[r + 2], rows[r + 3], rows[r + 4];
+      std::optional<dem::CellState> cell;
+      if (rows[r + 6] != 0) cell = db::read_cell_state(h5::open_group(root, cell_group(k, slot))).state;
+      law->restore_point(slot, F, rows[r + 5], std::move(cell));
+    }
+  }
   try {
     solver.restore(h5::read_double_attribute(root, "time"), h5::read_int_attribute(root, "steps"), std::move(points));
   } catch (const std::invalid_argument& e) {

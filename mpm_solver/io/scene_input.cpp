@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <utility>
 #include <stdexcept>
 
 #include "cell_input.hpp"
@@ -9,7 +11,9 @@
 #include "core/drucker_prager_law.hpp"
 #include "core/elastic_law.hpp"
 #include "core/live_dem_law.hpp"
+#include "coupling/library_law.hpp"
 #include "core/seeding.hpp"
+#include "store/error.hpp"
 #include "store/library.hpp"
 
 namespace grainbank::mpm::io {
@@ -43,6 +47,23 @@ auto at_node(const JsonNode& node, F&& f) -> decltype(f()) {
   }
 }
 
+// The DEM effects a scene declares (absent: whatever its cells have). A DEM-backed material whose cell
+// or library was built with other effects is refused: its responses answer another physics.
+struct DemEffects {
+  std::optional<bool> cohesion, kinetic_stress, rolling_resistance;
+};
+
+void require_effects(const JsonNode& node, const dem::Material& material, const DemEffects& scene, const std::string& source) {
+  const auto check = [&](const char* name, const std::optional<bool>& wanted, bool built) {
+    if (wanted && *wanted != built)
+      node.fail(source + " was built with " + name + (built ? " on" : " off") + " but the scene's effects." + name +
+                " is " + (*wanted ? "on" : "off") + "; the run is refused (use a library or cell with the same effects)");
+  };
+  check("cohesion", scene.cohesion, material.effects.bonds);
+  check("kinetic_stress", scene.kinetic_stress, material.effects.kinetic_stress);
+  check("rolling_resistance", scene.rolling_resistance, material.effects.rolling);
+}
+
 Grid read_grid(const JsonNode& node) {
   node.allow_only({"origin", "cell_size", "cells"});
   const Vec2 origin = node.has("origin") ? vec2(node.at("origin", "")) : Vec2::Zero();
@@ -69,8 +90,75 @@ dem::DemCell live_template(const JsonNode& node, const std::filesystem::path& fo
   }
 }
 
-std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::filesystem::path& folder) {
-  const std::string law = node.at("law", "\"elastic\", \"drucker_prager\" or \"live\"").string();
+LiveDemSettings read_live_settings(const JsonNode& node) {
+  LiveDemSettings s;
+  if (const auto sub = node.find("substepping")) {
+    sub->allow_only({"q_t", "q_n", "q_sigma"});
+    s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, 0.3, true, false));
+    s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
+    s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
+  }
+  s.q_h = node.number_or("q_h", s.q_h, Range::positive());
+  return s;
+}
+
+// A cache or hybrid material: the library (and template) its points are answered from; with "cell",
+// the library must have been built for that cell's material.
+std::unique_ptr<ConstitutiveLaw> read_library_law(const JsonNode& node, const std::filesystem::path& folder,
+                                                  const DemEffects& effects, bool hybrid) {
+  if (hybrid)
+    node.allow_only({"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h", "fallback", "enrich",
+                     "snapshot_interval"});
+  else
+    node.allow_only({"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"});
+  LibraryLawSettings s;
+  s.live = read_live_settings(node);
+  std::optional<db::KeyScales> scales;
+  if (const auto lookup = node.find("lookup")) {
+    lookup->allow_only({"k", "tolerance", "scales"});
+    s.lookup.k = static_cast<std::size_t>(lookup->integer_or("k", static_cast<std::int64_t>(s.lookup.k), 1, 1000));
+    s.lookup.tolerance = lookup->number_or("tolerance", s.lookup.tolerance, Range::at_least(0));
+    if (const auto sc = lookup->find("scales")) {
+      // Replaces the library's key scales for this run: what "a different state" means here.
+      sc->allow_only({"strain", "rate", "damage"});
+      scales = db::KeyScales{sc->number("strain", Range::positive()), sc->number("rate", Range::positive()),
+                             sc->number("damage", Range::positive())};
+    }
+  }
+  if (hybrid) {
+    s.fallback = Fallback::warm_start;
+    if (const auto fb = node.find("fallback")) {
+      fb->allow_only({"start", "max_drive_strain", "return_after"});
+      if (fb->has("start")) {
+        const JsonNode start = fb->at("start", "");
+        const std::string kind = start.string();
+        if (kind == "replay") s.fallback = Fallback::replay;
+        else if (kind != "warm_start") start.fail_expected("\"warm_start\" or \"replay\"");
+      }
+      s.max_drive_strain = fb->number_or("max_drive_strain", s.max_drive_strain, Range::positive());
+      s.return_after = static_cast<int>(fb->integer_or("return_after", s.return_after, 0, 1000000000));
+    }
+    s.enrich = node.boolean_or("enrich", true);
+    s.snapshot_interval = static_cast<int>(node.integer_or("snapshot_interval", s.snapshot_interval, 0, 1000000000));
+  }
+  const JsonNode lib = node.at("library", "a library directory (string)");
+  const std::int64_t id = node.at("template", "a template id (integer)").integer(1);
+  std::optional<dem::Material> expected;
+  if (node.has("cell")) expected = app::load_cell_input(folder / node.at("cell", "").string()).material;
+  std::unique_ptr<LibraryLink> link;
+  try {
+    link = std::make_unique<LibraryLink>(folder / lib.string(), id, expected ? &*expected : nullptr, scales);
+  } catch (const db::StoreError& e) {
+    lib.fail(e.what());
+  }
+  require_effects(node, link->template_cell().material(), effects, "the library " + lib.string());
+  return at_node(node, [&] { return std::make_unique<LibraryLaw>(std::move(link), s); });
+}
+
+std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::filesystem::path& folder,
+                                          const DemEffects& effects) {
+  const char* laws = "\"elastic\", \"drucker_prager\", \"live\", \"cache\" or \"hybrid\"";
+  const std::string law = node.at("law", laws).string();
   if (law == "elastic") {
     node.allow_only({"name", "law", "density", "young", "poisson"});
     return at_node(node, [&] {
@@ -90,18 +178,13 @@ std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::files
   }
   if (law == "live") {
     node.allow_only({"name", "law", "cell", "library", "template", "substepping", "q_h"});
-    LiveDemSettings s;
-    if (const auto sub = node.find("substepping")) {
-      sub->allow_only({"q_t", "q_n", "q_sigma"});
-      s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, 0.3, true, false));
-      s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
-      s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
-    }
-    s.q_h = node.number_or("q_h", s.q_h, Range::positive());
+    const LiveDemSettings s = read_live_settings(node);
     const dem::DemCell cell = live_template(node, folder);
-    return std::make_unique<LiveDemLaw>(cell, s);
+    require_effects(node, cell.material(), effects, node.has("cell") ? "the cell" : "the library");
+    return at_node(node, [&] { return std::make_unique<LiveDemLaw>(cell, s); });
   }
-  node.at("law", "").fail_expected("\"elastic\", \"drucker_prager\" or \"live\"");
+  if (law == "cache" || law == "hybrid") return read_library_law(node, folder, effects, law == "hybrid");
+  node.at("law", "").fail_expected(laws);
 }
 
 void read_region(const JsonNode& node, Solver& solver, const std::vector<std::string>& names) {
@@ -179,7 +262,9 @@ Scene load_scene(const std::filesystem::path& file) {
   settings.time_step.cfl = time.number_or("cfl", settings.time_step.cfl, Range::between(0, 1, true, false));
   settings.time_step.contact = time.number_or("contact_factor", settings.time_step.contact, Range::between(0, 1, true, false));
   if (const auto integration = root.find("integration")) {
-    integration->allow_only({"flip", "sort_interval"});
+    integration->allow_only({"flip", "sort_interval", "skip_strain_increment"});
+    settings.skip_strain_increment =
+        integration->number_or("skip_strain_increment", settings.skip_strain_increment, Range::at_least(0));
     settings.flip = integration->number_or("flip", settings.flip, Range::between(0, 1, false, false));
     settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
   }
@@ -187,10 +272,14 @@ Scene load_scene(const std::filesystem::path& file) {
   scene.solver = std::make_unique<Solver>(at_node(grid, [&] { return read_grid(grid); }), settings);
 
   bool gravity = false, boundary_friction = false;
+  DemEffects dem_effects;
   if (const auto effects = root.find("effects")) {
-    effects->allow_only({"gravity", "boundary_friction"});
+    effects->allow_only({"gravity", "boundary_friction", "cohesion", "kinetic_stress", "rolling_resistance"});
     gravity = effects->boolean_or("gravity", false);
     boundary_friction = effects->boolean_or("boundary_friction", false);
+    for (auto [name, flag] : {std::pair{"cohesion", &dem_effects.cohesion}, std::pair{"kinetic_stress", &dem_effects.kinetic_stress},
+                              std::pair{"rolling_resistance", &dem_effects.rolling_resistance}})
+      if (effects->has(name)) *flag = effects->boolean_or(name, false);
   }
   if (gravity != root.has("gravity"))
     root.fail(gravity ? "effects.gravity is on but there is no \"gravity\" block"
@@ -205,7 +294,7 @@ Scene load_scene(const std::filesystem::path& file) {
     const std::string name = m.at("name", "a material name (string)").string();
     if (std::find(scene.material_names.begin(), scene.material_names.end(), name) != scene.material_names.end())
       m.at("name", "").fail("duplicate material name");
-    scene.solver->add_law(read_law(m, folder));
+    scene.solver->add_law(read_law(m, folder, dem_effects));
     scene.material_names.push_back(name);
   }
   const JsonNode regions = root.at("regions", "a non-empty array of regions");

@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "core/diagnostics.hpp"
+#include "coupling_report.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -18,13 +19,19 @@ std::ofstream open_csv(const std::filesystem::path& file, const char* header) {
 }  // namespace
 
 SeriesCsv::SeriesCsv(const std::filesystem::path& file)
-    : out_(open_csv(file, "t,dt,step,kinetic_energy,front,max_height,max_velocity,limit_wave,limit_contact,limit_law")) {}
+    : out_(open_csv(file, "t,dt,step,kinetic_energy,front,max_height,max_velocity,limit_wave,limit_contact,limit_law,"
+                        "hits,misses,live_cells,hit_rate,mean_estimated_error,went_live,warm_start_time,skipped_point_steps")) {}
 
 void SeriesCsv::write(const Solver& solver, double last_dt) {
   const FlowMeasures m = measure_flow(solver.points());
   const TimeStepLimits limits = solver.time_step_limits();
   out_ << solver.time() << ',' << last_dt << ',' << solver.steps() << ',' << m.kinetic_energy << ',' << m.front << ','
-       << m.max_height << ',' << m.max_speed << ',' << limits.wave << ',' << limits.contact << ',' << limits.law << '\n';
+       << m.max_height << ',' << m.max_speed << ',' << limits.wave << ',' << limits.contact << ',' << limits.law;
+  const StepCoupling c = step_coupling(solver);
+  CouplingCounters total;
+  for (std::size_t k = 0; k < solver.law_count(); ++k) total += solver.law(k).counters();
+  out_ << ',' << c.hits << ',' << c.misses << ',' << c.live << ',' << c.hit_rate() << ',' << c.mean_estimated_error << ','
+       << total.went_live << ',' << total.warm_start_seconds << ',' << solver.skipped_updates() << '\n';
 }
 
 TrackedCsv::TrackedCsv(const std::filesystem::path& file, std::vector<std::uint32_t> ids)

@@ -10,8 +10,11 @@
 
 namespace grainbank::mpm::io {
 
-// Columns: t, dt (the last step), step, kinetic_energy, front, max_height, max_velocity, and the
-// time-step criteria of the next step: limit_wave (CFL), limit_contact, limit_law (seed Eq. 4).
+// Columns: t, dt (the last step), step, kinetic_energy, front, max_height, max_velocity, the
+// time-step criteria of the next step: limit_wave (CFL), limit_contact, limit_law (seed Eq. 4), and
+// the coupling of the last step: points answered by a library hit, by a miss, by a live cell,
+// hit_rate (hits / lookups), mean_estimated_error [Pa] of the lookups; then cumulative counts:
+// went_live (points that turned live), warm_start_time [s] and skipped_point_steps.
 class SeriesCsv {
  public:
   explicit SeriesCsv(const std::filesystem::path& file);

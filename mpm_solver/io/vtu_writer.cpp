@@ -39,8 +39,8 @@ class AppendedArrays {
 void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   const auto& points = solver.points();
   const std::size_t n = points.size();
-  std::vector<double> xyz, velocity, stress, pressure, q, rate, damage, density;
-  std::vector<std::int32_t> law;
+  std::vector<double> xyz, velocity, stress, pressure, q, rate, damage, density, error;
+  std::vector<std::int32_t> law, source;
   std::vector<std::int64_t> id, connectivity, offsets;
   std::vector<std::uint8_t> types(n, 1);  // VTK_VERTEX
   for (std::size_t k = 0; k < n; ++k) {
@@ -55,6 +55,8 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
     damage.push_back(solver.law(mp.law).damage(mp.slot));
     density.push_back(mp.mass / mp.volume);
     law.push_back(static_cast<std::int32_t>(mp.law));
+    source.push_back(static_cast<std::int32_t>(solver.law(mp.law).source(mp.slot)));
+    error.push_back(solver.law(mp.law).estimated_error(mp.slot));
     id.push_back(mp.id);
     connectivity.push_back(static_cast<std::int64_t>(k));
     offsets.push_back(static_cast<std::int64_t>(k + 1));
@@ -68,6 +70,8 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   arrays.add("damage", "Float64", 1, damage);
   arrays.add("density", "Float64", 1, density);
   arrays.add("law", "Int32", 1, law);
+  arrays.add("source", "Int32", 1, source);  // StressSource: 0 analytic, 1 live, 2 hit, 3 miss
+  arrays.add("estimated_error", "Float64", 1, error);
   arrays.add("id", "Int64", 1, id);
   const std::string point_data = arrays.take_xml();
   arrays.add("points", "Float64", 3, xyz);

@@ -77,7 +77,7 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "bad.json: /obstacles/0/kn: unknown key; allowed keys here: line, polygon, k_n, k_t, friction, "
                "damping, velocity, remove_at");
   expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
-               "bad.json: /materials/0/law: expected \"elastic\", \"drucker_prager\" or \"live\", got a string "
+               "bad.json: /materials/0/law: expected \"elastic\", \"drucker_prager\", \"live\", \"cache\" or \"hybrid\", got a string "
                "(\"plastic\")");
 }
 

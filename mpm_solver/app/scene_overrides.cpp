@@ -1,0 +1,60 @@
+#include "scene_overrides.hpp"
+
+#include <algorithm>
+#include <array>
+#include <string_view>
+
+#include "common/json_input.hpp"
+
+namespace grainbank::mpm::app {
+
+namespace {
+
+constexpr std::array<std::string_view, 3> kDemBackedLaws = {"live", "cache", "hybrid"};
+constexpr const char* kDemBackedList = "live, cache or hybrid";
+
+bool dem_backed(const nlohmann::json& material) {
+  const auto law = material.find("law");
+  return law != material.end() && law->is_string() &&
+         std::find(kDemBackedLaws.begin(), kDemBackedLaws.end(), law->get<std::string>()) != kDemBackedLaws.end();
+}
+
+// A relative path of the scene is relative to the scene's folder; the rewritten scene is read from
+// elsewhere, so it gets the absolute path.
+void make_absolute(nlohmann::json& material, const char* key, const std::filesystem::path& folder) {
+  const auto it = material.find(key);
+  if (it != material.end() && it->is_string())
+    *it = std::filesystem::absolute(folder / it->get<std::string>()).lexically_normal().string();
+}
+
+}  // namespace
+
+nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
+                               const SceneOverrides& overrides) {
+  const std::string flags = overrides.law && overrides.library ? "--law/--library" : overrides.law ? "--law" : "--library";
+  if (overrides.law &&
+      std::find(kDemBackedLaws.begin(), kDemBackedLaws.end(), *overrides.law) == kDemBackedLaws.end())
+    throw common::InputError("--law: expected " + std::string(kDemBackedList) + ", got \"" + *overrides.law + "\"");
+  if (overrides.library && overrides.library->empty())
+    throw common::InputError("--library: expected a library directory, got an empty path");
+  const auto materials = scene.find("materials");
+  std::size_t rewritten = 0;
+  if (materials != scene.end() && materials->is_array())
+    for (nlohmann::json& m : *materials) {
+      if (!m.is_object() || !dem_backed(m)) continue;
+      ++rewritten;
+      make_absolute(m, "cell", scene_folder);
+      make_absolute(m, "library", scene_folder);
+      if (overrides.law) m["law"] = *overrides.law;
+      if (overrides.library) {
+        m.erase("cell");
+        m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();
+      }
+    }
+  if (rewritten == 0)
+    throw common::InputError(flags + ": expected a scene with a DEM-backed material (law " + kDemBackedList +
+                             "), found none");
+  return scene;
+}
+
+}  // namespace grainbank::mpm::app

@@ -1,0 +1,61 @@
+#include "live_cell_model.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+#include <stdexcept>
+
+namespace grainbank::mpm {
+
+dem::Mat3 embed_plane_strain(const Mat2& F_inc) {
+  dem::Mat3 f = dem::Mat3::Identity();
+  f.topLeftCorner<2, 2>() = F_inc;
+  return f;
+}
+
+PointStress plane_stress_of(const dem::Mat3& s) {
+  PointStress out;
+  const Mat2 block = s.topLeftCorner<2, 2>();
+  out.in_plane = 0.5 * (block + block.transpose());
+  out.zz = s(2, 2);
+  return out;
+}
+
+LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings settings)
+    : template_state_(cell_template.state()),
+      material_(cell_template.material()),
+      skin_(cell_template.skin()),
+      settings_(settings) {
+  if (!(settings_.q_h > 0) || !std::isfinite(settings_.q_h))
+    throw std::invalid_argument("q_h: expected a positive number");
+  const std::vector<double>& r = cell_template.radii();
+  double solid_mass = 0;
+  for (double ri : r) solid_mass += material_.density * 4.0 / 3.0 * std::numbers::pi * ri * ri * ri;
+  template_volume_ = cell_template.volume();
+  density_ = solid_mass / template_volume_;
+  mean_radius_ = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
+  min_diameter_ = 2 * *std::min_element(r.begin(), r.end());
+}
+
+dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const Mat2& F_inc, double dt) const {
+  return cell.advance(embed_plane_strain(F_inc), dt, settings_.substepping).stress;
+}
+
+double LiveCellModel::modulus(const dem::CellMeasures& m) const {
+  const double scale = m.solid_fraction * m.coordination / (std::numbers::pi * mean_radius_);
+  const double bulk = scale * material_.contact.k_n / 12;
+  const double shear = scale * (2 * material_.contact.k_n + 3 * material_.contact.k_t) / 60;
+  return bulk + 4 * shear / 3;
+}
+
+double LiveCellModel::time_step_limit(const dem::Mat3& h, const Mat2& L) const {
+  // |ḣ|_sup is the largest component of the cell-vector velocities.
+  dem::Mat3 L3 = dem::Mat3::Zero();
+  L3.topLeftCorner<2, 2>() = L;
+  const double rate = (L3 * h).cwiseAbs().maxCoeff();
+  return rate > 0 ? settings_.q_h * min_diameter_ / rate : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,57 @@
+// What every law that drives DEM cells at material points shares (live, hybrid): the template the
+// cells are copied from, the plane-strain embedding of the MPM increment, the stress handed back to
+// the MPM, the CFL modulus of a cell and seed Eq. 4. One place, so a hybrid point that turns live
+// behaves exactly like a point of the live law.
+#pragma once
+#include "cell/dem_cell.hpp"
+#include "types.hpp"
+
+namespace grainbank::mpm {
+
+struct LiveDemSettings {
+  dem::Substepping substepping;  // Q_t, Q_n, Q_σ of seed Eq. 3 and Fig. 3
+  double q_h = 0.01;             // Q_h of seed Eq. 4: cell walls move at most Q_h d_min per MPM step
+};
+
+// In-plane F_inc embedded in 3D: [[F, 0], [0, 1]].
+dem::Mat3 embed_plane_strain(const Mat2& F_inc);
+// The MPM momentum balance needs a symmetric stress; Love–Weber stress is symmetric only at
+// equilibrium of moments, so its symmetric part is taken (as the reference implementation does).
+PointStress plane_stress_of(const dem::Mat3& stress);
+
+class LiveCellModel {
+ public:
+  // Throws std::invalid_argument on a bad q_h.
+  LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings settings);
+
+  const LiveDemSettings& settings() const { return settings_; }
+  const dem::Material& material() const { return material_; }
+  // Density of the cell (spheres and voids) and its volume at the template state.
+  double density() const { return density_; }
+  double template_volume() const { return template_volume_; }
+  const dem::Mat3& template_cell_matrix() const { return template_state_.h; }
+
+  // A deep copy of the template, or a cell continuing from `state` (the point owns it).
+  dem::DemCell new_cell() const { return dem::DemCell(template_state_, material_, skin_); }
+  dem::DemCell cell_from(dem::CellState state) const { return dem::DemCell(std::move(state), material_, skin_); }
+
+  // Drives the cell through the in-plane increment over dt; returns its regressed 3D stress
+  // (plane_stress_of gives the MPM's part of it).
+  dem::Mat3 advance(dem::DemCell& cell, const Mat2& F_inc, double dt) const;
+
+  // Voigt (affine) estimate of the cell's P-wave modulus from its current coordination and solid
+  // fraction: K = φ Z k_n / (12 π R), G = φ Z (2 k_n + 3 k_t) / (60 π R). An upper bound, so the CFL
+  // step it gives is safe.
+  double modulus(const dem::CellMeasures& m) const;
+  // Seed Eq. 4 for a cell of matrix h at velocity gradient L: ḣ = L h moves by ≤ Q_h d_min per step.
+  double time_step_limit(const dem::Mat3& h, const Mat2& L) const;
+
+ private:
+  dem::CellState template_state_;
+  dem::Material material_;
+  double skin_;
+  LiveDemSettings settings_;
+  double density_, mean_radius_, min_diameter_, template_volume_;
+};
+
+}  // namespace grainbank::mpm

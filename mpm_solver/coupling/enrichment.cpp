@@ -1,0 +1,74 @@
+#include "enrichment.hpp"
+
+#include <unistd.h>
+
+#include "lookup/state_key.hpp"
+
+namespace grainbank::mpm {
+
+namespace {
+std::string run_shard_name() {
+  // UTC time alone could repeat for runs started in the same second; the pid separates them.
+  std::string stamp = db::utc_now();
+  for (char& c : stamp)
+    if (c == ':') c = '-';
+  return "run-" + stamp + "-" + std::to_string(getpid());
+}
+}  // namespace
+
+Enrichment::Enrichment(LibraryLink& link, int snapshot_interval)
+    : link_(link),
+      snapshot_interval_(snapshot_interval),
+      shard_name_(run_shard_name()),
+      lock_(link.locked([](db::Library& library) { return library.directory(); })) {
+  writer_ = link_.locked([&](db::Library& library) { return std::make_unique<db::ShardWriter>(library, shard_name_); });
+}
+
+RunPath Enrichment::start(const nlohmann::json& origin) {
+  RunPath path;
+  path.start = std::chrono::steady_clock::now();
+  link_.locked([&](db::Library& library) {
+    nlohmann::json spec = {{"origin", origin}, {"run", shard_name_}, {"sequence", started_++}};
+    path.id = library.add_path(link_.template_id(), spec, library.material());
+    writer_->start_path(path.id);
+  });
+  return path;
+}
+
+void Enrichment::add(RunPath& path, const dem::DemCell& cell, const dem::Mat3& L, const dem::Mat3& stress) {
+  const dem::CellMeasures m = cell.measures();
+  db::Record r;
+  r.time = cell.time();
+  r.F = cell.deformation_gradient();
+  r.L = L;
+  r.stress = db::to_stress6(stress);
+  r.damage = m.damage;
+  r.solid_fraction = m.solid_fraction;
+  r.coordination = m.coordination;
+  r.bonds = m.bonds;
+  r.kinetic_energy = m.kinetic_energy;
+  r.key = lookup::state_key(r.F, L, m.damage, link_.scales());
+  path.pending.push_back(r);
+  const std::int64_t index = path.records++;
+  if (snapshot_interval_ > 0 && (index + 1) % snapshot_interval_ == 0) {
+    commit(path);
+    link_.locked([&](db::Library&) { writer_->add_snapshot(path.id, index, db::StoredCell{cell.state(), cell.skin()}); });
+  } else if (path.pending.size() >= kCommitBatch) {
+    commit(path);
+  }
+}
+
+void Enrichment::commit(RunPath& path) {
+  if (path.pending.empty()) return;
+  link_.locked([&](db::Library&) { writer_->append_records(path.id, path.pending); });
+  path.pending.clear();
+}
+
+void Enrichment::finish(RunPath& path) {
+  commit(path);
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - path.start).count();
+  link_.locked([&](db::Library&) { writer_->finish_path(path.id, db::PathStatus::done, wall); });
+  path.id = -1;
+}
+
+}  // namespace grainbank::mpm

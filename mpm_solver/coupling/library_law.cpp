@@ -1,0 +1,178 @@
+#include "library_law.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <stdexcept>
+
+namespace grainbank::mpm {
+
+LibraryLaw::LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings settings)
+    : link_(std::move(link)),
+      settings_(settings),
+      model_(link_->template_cell(), settings.live),
+      template_measures_(link_->template_cell().measures()) {
+  if (settings_.lookup.k == 0) throw std::invalid_argument("lookup.k: expected an integer >= 1");
+  if (!(settings_.lookup.tolerance >= 0)) throw std::invalid_argument("lookup.tolerance: expected a number >= 0");
+  if (!(settings_.max_drive_strain > 0)) throw std::invalid_argument("max_drive_strain: expected a positive number");
+  if (settings_.return_after < 0) throw std::invalid_argument("return_after: expected an integer >= 0");
+  if (settings_.fallback == Fallback::none && link_->index().size() == 0)
+    throw std::invalid_argument("the cache law needs a library with records (it has none; use hybrid or sample paths)");
+  // Only a law that runs live cells has responses to give back.
+  if (settings_.enrich && settings_.fallback != Fallback::none)
+    enrichment_ = std::make_unique<Enrichment>(*link_, settings_.snapshot_interval);
+}
+
+LibraryLaw::~LibraryLaw() {
+  // finish() is the normal way out; this only keeps the responses of a run that ended otherwise.
+  try {
+    finish();
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "warning: live responses of this run not written to the library: %s\n", e.what());
+  }
+}
+
+std::size_t LibraryLaw::add_point(PointStress& initial_stress) {
+  // Points start in the template's state, which the library answers exactly by construction.
+  Point p;
+  p.damage = template_measures_.damage;
+  p.modulus = model_.modulus(template_measures_);
+  points_.push_back(std::move(p));
+  initial_stress = plane_stress_of(template_measures_.stress);
+  return points_.size() - 1;
+}
+
+lookup::LookupAnswer LibraryLaw::ask(const Point& p, const Mat2& L) const {
+  lookup::LookupState state;
+  state.F = embed_plane_strain(p.F);
+  state.L.topLeftCorner<2, 2>() = L;
+  state.damage = p.damage;
+  return link_->index().query(state, settings_.lookup);
+}
+
+void LibraryLaw::update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) {
+  Point& p = points_[slot];
+  const Mat2 F_before = p.F;
+  p.F = F_inc * F_before;
+  if (settings_.fallback == Fallback::replay) p.history.push_back({F_inc, dt});
+  const Mat2 L = (F_inc - Mat2::Identity()) / dt;
+
+  if (p.cell) {
+    advance_live(p, F_inc, dt, stress);
+    if (settings_.return_after > 0) {
+      const lookup::LookupAnswer answer = ask(p, L);
+      p.steps_inside = answer.hit ? p.steps_inside + 1 : 0;
+      if (p.steps_inside >= settings_.return_after) {
+        if (p.path.open()) enrichment_->finish(p.path);
+        p.cell.reset();
+        --live_points_;
+        p.steps_inside = 0;
+        ++p.counters.returned_to_cache;
+      }
+    }
+    return;
+  }
+
+  const lookup::LookupAnswer answer = ask(p, L);
+  if (!answer.hit && settings_.fallback != Fallback::none) {
+    ++p.counters.misses;
+    go_live(slot, p, F_before, answer, dt);
+    advance_live(p, F_inc, dt, stress);
+    return;
+  }
+  ++(answer.hit ? p.counters.hits : p.counters.misses);
+  p.counters.estimated_error_sum += answer.estimated_error;
+  stress = plane_stress_of(answer.stress);
+  p.source = answer.hit ? StressSource::hit : StressSource::miss;
+  p.error = answer.estimated_error;
+  if (answer.neighbours > 0) {
+    const RecordState& r = link_->state(answer.nearest);
+    p.damage = r.damage;
+    dem::CellMeasures m;
+    m.solid_fraction = r.solid_fraction;
+    m.coordination = r.coordination;
+    p.modulus = model_.modulus(m);
+  }
+}
+
+void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const lookup::LookupAnswer& answer,
+                         double dt) {
+  const auto start = std::chrono::steady_clock::now();
+  nlohmann::json origin = {{"mpm_point_slot", slot}};
+  std::optional<db::StoredCell> snapshot;
+  if (settings_.fallback == Fallback::warm_start && answer.neighbours > 0) snapshot = link_->snapshot_before(answer.nearest);
+  p.cell = std::make_unique<dem::DemCell>(snapshot ? model_.cell_from(std::move(snapshot->state)) : model_.new_cell());
+  long increments = 0;
+  if (settings_.fallback == Fallback::replay) {
+    // The history already holds this step's increment, which advance_live applies.
+    const std::vector<RecordedIncrement> before(p.history.begin(), p.history.end() - 1);
+    increments = replay(*p.cell, before, model_);
+    origin["start"] = "replay";
+  } else {
+    increments = drive_to(*p.cell, embed_plane_strain(F_before), settings_.max_drive_strain, dt,
+                          settings_.live.substepping);
+    origin["start"] = snapshot ? nlohmann::json{{"path", answer.nearest.path_id}, {"record", answer.nearest.record_index}}
+                               : nlohmann::json("template");
+  }
+  p.steps_inside = 0;
+  ++live_points_;
+  ++p.counters.went_live;
+  p.counters.warm_start_increments += static_cast<std::uint64_t>(increments);
+  if (enrichment_) p.path = enrichment_->start(origin);
+  p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void LibraryLaw::advance_live(Point& p, const Mat2& F_inc, double dt, PointStress& stress) {
+  const dem::Mat3 sigma = model_.advance(*p.cell, F_inc, dt);
+  stress = plane_stress_of(sigma);
+  const dem::CellMeasures m = p.cell->measures();
+  p.modulus = model_.modulus(m);
+  p.damage = m.damage;
+  p.source = StressSource::live;
+  p.error = 0;
+  ++p.counters.live_updates;
+  if (enrichment_ && !p.path.open()) p.path = enrichment_->start({{"start", "restart"}});
+  if (p.path.open()) {
+    dem::Mat3 L = dem::Mat3::Zero();
+    L.topLeftCorner<2, 2>() = (F_inc - Mat2::Identity()) / dt;
+    enrichment_->add(p.path, *p.cell, L, sigma);
+    ++p.counters.enriched_records;
+  }
+}
+
+void LibraryLaw::restore_point(std::size_t slot, const Mat2& F, double damage, std::optional<dem::CellState> cell) {
+  Point& p = points_[slot];
+  p.F = F;
+  p.damage = damage;
+  if (p.cell) --live_points_;
+  p.cell.reset();
+  if (!cell) return;
+  p.cell = std::make_unique<dem::DemCell>(model_.cell_from(std::move(*cell)));
+  ++live_points_;
+  p.modulus = model_.modulus(p.cell->measures());
+  p.source = StressSource::live;
+}
+
+double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
+  const Point& p = points_[slot];
+  return p.cell ? p.cell->volume() / model_.template_volume() : F.determinant();
+}
+
+double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& L) const {
+  const Point& p = points_[slot];
+  // A cached point's cell would be the template deformed by its F.
+  return model_.time_step_limit(p.cell ? p.cell->cell_matrix() : embed_plane_strain(p.F) * model_.template_cell_matrix(), L);
+}
+
+CouplingCounters LibraryLaw::counters() const {
+  CouplingCounters total;
+  for (const Point& p : points_) total += p.counters;
+  if (enrichment_) total.enriched_paths = total.went_live;  // every live cell writes one path
+  return total;
+}
+
+void LibraryLaw::finish() {
+  for (Point& p : points_)
+    if (p.path.open()) enrichment_->finish(p.path);
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,100 @@
+// The library-backed laws (DESIGN.md, "Macro scale: MPM"): `cache` and `hybrid`.
+//
+// Every step a cached point computes its state key from its own deformation gradient F (composed
+// from its increments), its velocity gradient L = (F_inc − I)/Δt and its damage, and asks the
+// library: the answer's stress (rotated into the point's frame) becomes its stress, the damage and
+// coordination of the nearest record its damage and wave speed. A hit is a nearest record within
+// the tolerance.
+// - cache: a miss is answered by the same nearest-state blend and counted (fastest, least accurate).
+// - hybrid: a miss turns the point live. Its cell is built (warm start: the last snapshot at or
+//   before the nearest record, or the template, driven to the point's F before this increment;
+//   replay: the template re-run through the point's own recorded increments), then receives this
+//   step's increment, and from then on the point behaves as a point of the live law (two-way
+//   coupling, LiveCellModel). A live point goes back to the cache only after its own state has been
+//   within the tolerance for `return_after` consecutive steps (0: it stays live). With `enrich`, the
+//   responses of live cells are written to the run's own shard (enrichment.hpp).
+// With an empty library every hybrid point turns live at its first step from the template itself,
+// so the run equals the live law's to round-off.
+#pragma once
+#include <atomic>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/constitutive_law.hpp"
+#include "core/live_cell_model.hpp"
+#include "enrichment.hpp"
+#include "library_link.hpp"
+#include "warm_start.hpp"
+
+namespace grainbank::mpm {
+
+enum class Fallback { none, warm_start, replay };  // none = the cache law
+
+struct LibraryLawSettings {
+  lookup::LookupOptions lookup;  // k and the hit tolerance (key units)
+  Fallback fallback = Fallback::none;
+  double max_drive_strain = 1e-3;  // warm start: largest log strain per driving increment
+  int return_after = 0;            // steps inside the tolerance before a live point is cached again
+  bool enrich = false;             // write live responses to the run's own shard
+  int snapshot_interval = 25;      // of enriched paths: a snapshot every this many records
+  LiveDemSettings live;            // of the live cells (and of the wave speed of cached points)
+};
+
+class LibraryLaw : public ConstitutiveLaw {
+ public:
+  // Throws std::invalid_argument on bad settings or when the cache law gets an empty library.
+  LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings settings);
+  ~LibraryLaw() override;
+
+  std::string name() const override { return settings_.fallback == Fallback::none ? "cache" : "hybrid"; }
+  double density() const override { return model_.density(); }
+  std::size_t add_point(PointStress& initial_stress) override;
+  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  double volume_ratio(std::size_t slot, const Mat2& F) const override;
+  double p_wave_modulus(std::size_t slot) const override { return points_[slot].modulus; }
+  double time_step_limit(std::size_t slot, const Mat2& L) const override;
+  double damage(std::size_t slot) const override { return points_[slot].damage; }
+  bool expensive() const override { return live_points_ > 0; }
+  StressSource source(std::size_t slot) const override { return points_[slot].source; }
+  double estimated_error(std::size_t slot) const override { return points_[slot].error; }
+  CouplingCounters counters() const override;
+  // Marks the enriched paths of the live points done. Idempotent.
+  void finish() override;
+
+  // The live cell of a point, or null while the library answers it.
+  const dem::DemCell* live_cell(std::size_t slot) const { return points_[slot].cell.get(); }
+  // The point's F as the law composed it from its increments.
+  const Mat2& deformation_gradient(std::size_t slot) const { return points_[slot].F; }
+  const LibraryLink& link() const { return *link_; }
+  // Restart files: the point continues with this F, damage and (when live) cell. A restored live
+  // point starts a new enriched path; its replay history is not restored (see README).
+  void restore_point(std::size_t slot, const Mat2& F, double damage, std::optional<dem::CellState> cell);
+  const Enrichment* enrichment() const { return enrichment_.get(); }
+
+ private:
+  struct Point {
+    Mat2 F = Mat2::Identity();
+    double damage = 0, modulus = 0, error = 0;
+    StressSource source = StressSource::hit;
+    std::unique_ptr<dem::DemCell> cell;          // live only
+    int steps_inside = 0;                        // consecutive live steps within the tolerance
+    std::vector<RecordedIncrement> history;      // replay only
+    RunPath path;                                // enrichment of the live cell
+    CouplingCounters counters;
+  };
+
+  lookup::LookupAnswer ask(const Point& p, const Mat2& L) const;
+  void go_live(std::size_t slot, Point& p, const Mat2& F_before, const lookup::LookupAnswer& answer, double dt);
+  void advance_live(Point& p, const Mat2& F_inc, double dt, PointStress& stress);
+
+  std::unique_ptr<LibraryLink> link_;
+  LibraryLawSettings settings_;
+  LiveCellModel model_;
+  dem::CellMeasures template_measures_;
+  std::unique_ptr<Enrichment> enrichment_;
+  std::vector<Point> points_;
+  std::atomic<long> live_points_{0};  // updated by the threads that turn points live or back
+};
+
+}  // namespace grainbank::mpm

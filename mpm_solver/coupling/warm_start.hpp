@@ -1,0 +1,28 @@
+// Bringing a new live cell to a material point's state, when a hybrid point misses (DESIGN.md,
+// "Fallback"): either drive a stored cell (the nearest snapshot, or the template) to the point's
+// deformation, or replay the point's own recorded increments from the template (exact, slower).
+#pragma once
+#include <utility>
+#include <vector>
+
+#include "core/live_cell_model.hpp"
+
+namespace grainbank::mpm {
+
+// One MPM increment as a point received it.
+struct RecordedIncrement {
+  Mat2 F_inc;
+  double dt;
+};
+
+// Drives `cell` from its deformation gradient F_cell = h h_ref⁻¹ to `target` along the straight
+// path in log space: G = target F_cell⁻¹ split into n = ceil(|log G| / max_strain) equal increments
+// G^(1/n), each over `dt`. Afterwards F_cell = target up to round-off. Returns n (0 when the cell is
+// already there).
+long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, double dt, const dem::Substepping& q);
+
+// Re-runs `history` on `cell` (normally a fresh copy of the template): the cell a point of the live
+// law would own after the same increments. Returns the number of increments.
+long replay(dem::DemCell& cell, const std::vector<RecordedIncrement>& history, const LiveCellModel& model);
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,46 @@
+#include "coupling_report.hpp"
+
+namespace grainbank::mpm::io {
+
+StepCoupling step_coupling(const Solver& solver) {
+  StepCoupling s;
+  double error_sum = 0;
+  for (const MaterialPoint& mp : solver.points()) {
+    const ConstitutiveLaw& law = solver.law(mp.law);
+    switch (law.source(mp.slot)) {
+      case StressSource::analytic: ++s.analytic; break;
+      case StressSource::live: ++s.live; break;
+      case StressSource::hit: ++s.hits, error_sum += law.estimated_error(mp.slot); break;
+      case StressSource::miss: ++s.misses, error_sum += law.estimated_error(mp.slot); break;
+    }
+  }
+  if (s.hits + s.misses > 0) s.mean_estimated_error = error_sum / double(s.hits + s.misses);
+  return s;
+}
+
+nlohmann::json finish_coupling(Solver& solver) {
+  nlohmann::json laws = nlohmann::json::array();
+  for (std::size_t k = 0; k < solver.law_count(); ++k) {
+    ConstitutiveLaw& law = solver.law(k);
+    law.finish();
+    const CouplingCounters c = law.counters();
+    const std::uint64_t lookups = c.hits + c.misses;
+    laws.push_back({{"law", law.name()},
+                    {"hits", c.hits},
+                    {"misses", c.misses},
+                    {"hit_rate", c.hit_rate()},
+                    {"mean_estimated_error", lookups ? c.estimated_error_sum / double(lookups) : 0.0},
+                    {"live_point_steps", c.live_updates},
+                    {"went_live", c.went_live},
+                    {"returned_to_cache", c.returned_to_cache},
+                    {"warm_start_increments", c.warm_start_increments},
+                    {"warm_start_seconds", c.warm_start_seconds},
+                    {"enriched_paths", c.enriched_paths},
+                    {"enriched_records", c.enriched_records}});
+  }
+  return {{"laws", laws},
+          {"skipped_point_steps", solver.skipped_updates()},
+          {"point_steps", solver.point_updates()}};
+}
+
+}  // namespace grainbank::mpm::io

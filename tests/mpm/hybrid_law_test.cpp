@@ -1,0 +1,147 @@
+// The hybrid law: with an empty library it is the live law (to round-off); a point that misses turns
+// live with a cell whose deformation is the point's F (warm start from a snapshot, or replay of its
+// own increments, which reproduces a live point exactly).
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "coupling_test_util.hpp"
+#include "io/restart.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+using namespace testing;
+
+constexpr double kDt = 2e-4;
+
+void expect_same_stress(const PointStress& a, const PointStress& b, double relative) {
+  const double scale = std::abs(b.in_plane.trace()) + std::abs(b.zz);
+  EXPECT_LE((a.in_plane - b.in_plane).norm(), relative * scale);
+  EXPECT_LE(std::abs(a.zz - b.zz), relative * scale);
+}
+
+TEST(HybridLaw, EmptyLibraryEqualsLiveToRoundOff) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  LiveDemSettings live;
+  live.substepping = {0.1, 1, 0.2};
+  Solver reference = block_with(std::make_unique<LiveDemLaw>(stored_template(dir, id), live));
+  Solver hybrid = block_with(library_law(dir, id, coupling_settings(Fallback::warm_start, false)));
+  for (int step = 0; step < 6; ++step) {
+    EXPECT_EQ(reference.stable_time_step(), hybrid.stable_time_step());
+    reference.step(kDt);
+    hybrid.step(kDt);
+    for (std::size_t k = 0; k < reference.points().size(); ++k) {
+      const MaterialPoint &a = hybrid.points()[k], &b = reference.points()[k];
+      ASSERT_EQ(a.id, b.id);
+      expect_same_stress(a.stress, b.stress, 1e-12);
+      EXPECT_NEAR(a.volume, b.volume, 1e-12 * b.volume);
+      EXPECT_EQ(a.position, b.position);
+      EXPECT_EQ(hybrid.law(0).source(a.slot), StressSource::live);
+    }
+  }
+  const CouplingCounters c = hybrid.law(0).counters();
+  EXPECT_EQ(c.went_live, 16u);
+  EXPECT_EQ(c.misses, 16u);
+  EXPECT_EQ(c.hits, 0u);
+  EXPECT_EQ(c.warm_start_increments, 0u);  // started from the template itself: nothing to drive
+  EXPECT_EQ(c.live_updates, 16u * 6);
+}
+
+TEST(HybridLaw, RestartContinuesExactlyLikeTheUninterruptedRun) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  const auto settings = coupling_settings(Fallback::warm_start, false);
+  Solver uninterrupted = block_with(library_law(dir, id, settings));
+  for (int step = 0; step < 3; ++step) uninterrupted.step(kDt);
+  const auto file = dir / "restart.h5";
+  io::write_restart(file, uninterrupted);
+  for (int step = 0; step < 3; ++step) uninterrupted.step(kDt);
+
+  Solver resumed = block_with(library_law(dir, id, settings));
+  io::read_restart(file, resumed);
+  for (int step = 0; step < 3; ++step) resumed.step(kDt);
+  for (std::size_t k = 0; k < resumed.points().size(); ++k) {
+    EXPECT_EQ(resumed.points()[k].stress.in_plane, uninterrupted.points()[k].stress.in_plane);
+    EXPECT_EQ(resumed.points()[k].position, uninterrupted.points()[k].position);
+    EXPECT_EQ(resumed.law(0).source(resumed.points()[k].slot), StressSource::live);
+  }
+}
+
+// A library holding the exact path of one point sheared for 24 increments (written by a hybrid
+// point on the empty library, with a snapshot every 4 records). A point follows that path for 14
+// increments (hits), then is compressed instead: it misses and turns live.
+class MissingPoint : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fresh_library_dir();
+    id_ = create_library(dir_, small_snow_cell());
+    auto writer = library_law(dir_, id_, coupling_settings(Fallback::warm_start, true));
+    PointStress s;
+    writer->add_point(s);
+    for (int k = 0; k < 24; ++k) writer->update(0, shear_, kDt, s);
+    writer->finish();
+    for (int k = 0; k < 14; ++k) increments_.push_back(shear_);
+    for (int k = 0; k < 4; ++k) increments_.push_back(compression_);
+  }
+  // Drives a new point of `law` through increments_; returns the point's F.
+  Mat2 drive(LibraryLaw& law) const {
+    PointStress s;
+    const std::size_t slot = law.add_point(s);
+    Mat2 F = Mat2::Identity();
+    for (const Mat2& inc : increments_) {
+      law.update(slot, inc, kDt, s);
+      F = inc * F;
+    }
+    return F;
+  }
+  const Mat2 shear_ = Mat2::Identity() + kDt * Mat2{{-0.3, 1.0}, {0.0, -0.2}};
+  const Mat2 compression_ = Mat2::Identity() + kDt * Mat2{{-3.0, 0.0}, {0.0, 1.0}};
+  std::filesystem::path dir_;
+  std::int64_t id_ = 0;
+  std::vector<Mat2> increments_;
+};
+
+TEST_F(MissingPoint, GoesLiveFromASnapshotWithTheCellDeformationOfThePoint) {
+  LibraryLawSettings s = coupling_settings(Fallback::warm_start, false);
+  s.max_drive_strain = 5e-5;
+  auto law = library_law(dir_, id_, s);
+  const Mat2 F = drive(*law);
+  const CouplingCounters c = law->counters();
+  EXPECT_EQ(c.hits, 14u);
+  EXPECT_EQ(c.misses, 1u);
+  EXPECT_EQ(c.went_live, 1u);
+  EXPECT_EQ(c.live_updates, 4u);
+  // From the snapshot after record 11 (12 increments) to the point's F after 14: driven over 2
+  // increments' worth of strain in steps of at most max_drive_strain.
+  EXPECT_GE(c.warm_start_increments, 2u);
+  const dem::DemCell* cell = law->live_cell(0);
+  ASSERT_NE(cell, nullptr);
+  EXPECT_EQ(law->source(0), StressSource::live);
+  const dem::Mat3 cell_F = cell->deformation_gradient();
+  EXPECT_LE((cell_F.topLeftCorner<2, 2>() - F).norm(), 1e-12);
+  EXPECT_LE((law->deformation_gradient(0) - F).norm(), 1e-14);
+  EXPECT_LE((cell_F.row(2) - dem::Vec3(0, 0, 1).transpose()).norm(), 1e-12);
+  EXPECT_LE((cell_F.col(2) - dem::Vec3(0, 0, 1)).norm(), 1e-12);
+}
+
+TEST_F(MissingPoint, ReplayRebuildsTheCellALivePointWouldOwn) {
+  auto law = library_law(dir_, id_, coupling_settings(Fallback::replay, false));
+  LiveDemSettings live;
+  live.substepping = coupling_settings(Fallback::replay, false).live.substepping;
+  LiveDemLaw reference(stored_template(dir_, id_), live);
+  drive(*law);
+  PointStress expected;
+  reference.add_point(expected);
+  for (const Mat2& inc : increments_) reference.update(0, inc, kDt, expected);
+  EXPECT_EQ(law->counters().warm_start_increments, 14u);  // the increments before the miss, replayed
+  const dem::DemCell* cell = law->live_cell(0);
+  ASSERT_NE(cell, nullptr);
+  EXPECT_EQ(cell->time(), reference.cell(0).time());
+  EXPECT_EQ(cell->cell_matrix(), reference.cell(0).cell_matrix());
+  EXPECT_EQ(cell->measures().stress, reference.cell(0).measures().stress);
+}
+
+}  // namespace
+}  // namespace grainbank::mpm

@@ -1,0 +1,133 @@
+// `--law` and `--library` rewrite the DEM-backed materials of a scene (and only those) at the JSON
+// level; bad values are refused naming the flag and what was expected; the binary runs a live scene
+// with `--law live` and keeps the rewritten scene in its output folder.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <fstream>
+
+#include "common/json_input.hpp"
+#include "common/temporary_directory.hpp"
+#include "scene_overrides.hpp"
+
+namespace grainbank::mpm::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+const nlohmann::json kScene = nlohmann::json::parse(R"({
+  "materials": [
+    {"name": "rock", "law": "elastic", "density": 2000, "young": 1e6, "poisson": 0.3},
+    {"name": "snow", "law": "live", "cell": "cells/snow.json", "q_h": 0.01},
+    {"name": "firn", "law": "hybrid", "library": "lib", "template": 2}
+  ]
+})");
+
+std::string error_of(const nlohmann::json& scene, const SceneOverrides& o) {
+  try {
+    apply_overrides(scene, "/scenes", o);
+  } catch (const common::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SceneOverrides, LawReplacesTheLawOfDemBackedMaterialsOnly) {
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = "cache", .library = std::nullopt});
+  EXPECT_EQ(out["materials"][0], kScene["materials"][0]);  // analytic: untouched
+  EXPECT_EQ(out["materials"][1]["law"], "cache");
+  EXPECT_EQ(out["materials"][2]["law"], "cache");
+  // Relative paths now absolute, from the scene's folder; the other keys are kept.
+  EXPECT_EQ(out["materials"][1]["cell"], "/scenes/cells/snow.json");
+  EXPECT_EQ(out["materials"][2]["library"], "/scenes/lib");
+  EXPECT_EQ(out["materials"][1]["q_h"], 0.01);
+  EXPECT_EQ(out["materials"][2]["template"], 2);
+}
+
+TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "/data/LIB"});
+  EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
+  EXPECT_FALSE(out["materials"][1].contains("cell"));
+  EXPECT_EQ(out["materials"][1]["library"], "/data/LIB");
+  EXPECT_EQ(out["materials"][1]["law"], "live");
+  EXPECT_EQ(out["materials"][2]["library"], "/data/LIB");
+  // A relative --library is relative to the working directory, like any command-line path.
+  const nlohmann::json rel = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "LIB"});
+  EXPECT_EQ(rel["materials"][1]["library"], (fs::current_path() / "LIB").lexically_normal().string());
+}
+
+TEST(SceneOverrides, ErrorsNameTheFlagAndTheExpectedValue) {
+  EXPECT_EQ(error_of(kScene, {.law = "elastic", .library = std::nullopt}), "--law: expected live, cache or hybrid, got \"elastic\"");
+  EXPECT_EQ(error_of(kScene, {.law = std::nullopt, .library = ""}),
+            "--library: expected a library directory, got an empty path");
+  nlohmann::json analytic = kScene;
+  analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
+  EXPECT_EQ(error_of(analytic, {.law = std::nullopt, .library = "LIB"}),
+            "--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+  EXPECT_EQ(error_of(analytic, {.law = "live", .library = "LIB"}),
+            "--law/--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+}
+
+// A two-point live scene with a small cell, one point tracked.
+void write_live_scene(const TemporaryDirectory& dir) {
+  fs::create_directories(dir.path() / "cells");
+  dir.write("cells/cell.json", R"({
+    "material": {"density": 920, "k_n": 2000, "k_t": 600, "restitution": 0.3, "friction": 0.2, "contact_weight": 0.5,
+                 "bond": {"tensile_strength": 8e-4, "shear_strength": 9.6e-4, "exponent": 2, "bonding_distance": 0.05}},
+    "effects": {"cohesion": true, "kinetic_stress": false, "rolling_resistance": false},
+    "preparation": {"spheres": 20, "diameter": {"min": 3.4e-4, "max": 4.0e-4}, "pressure": 1000, "seed": 3,
+                    "inertial_number": 0.01}
+  })");
+  dir.write("scene.json", R"({
+    "grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [6, 6]},
+    "time": {"end": 2e-4, "output_interval": 1e-4, "max_time_step": 1e-4},
+    "materials": [{"name": "snow", "law": "live", "cell": "cells/cell.json"}],
+    "regions": [{"material": "snow", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.3]}, "points_per_cell": 1,
+                 "velocity": [0.1, 0]}],
+    "tracked_points": [[0.25, 0.25]]
+  })");
+}
+
+std::string first_line(const fs::path& file) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
+TEST(SceneOverrides, CommandLineRunsTheRewrittenSceneAndWritesTrackedCells) {
+  const TemporaryDirectory dir("gb_mpm_overrides");
+  write_live_scene(dir);
+  const fs::path out = dir.path() / "out";
+  // Run from another working directory: the rewritten scene must find the cell by absolute path.
+  const std::string cmd = "cd / && " + std::string(MPM_SOLVER_BINARY) + " " + (dir.path() / "scene.json").string() +
+                          " --law live --out " + out.string() + " --json > " + (dir.path() / "stdout.json").string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  const nlohmann::json rewritten = common::load_json_file(out / "scene" / "scene.json");
+  EXPECT_EQ(rewritten["materials"][0]["cell"], (dir.path() / "cells" / "cell.json").string());
+  // The tracked live point's cell at each of the 3 output steps: packing CSV and VTK.
+  for (const char* step : {"000000", "000001", "000002"})
+    for (const char* ext : {".csv", ".vtk"}) {
+      const fs::path cell = out / "cells" / (std::string("point_0_") + step + ext);
+      EXPECT_TRUE(fs::exists(cell)) << cell;
+    }
+
+  const std::string bad = std::string(MPM_SOLVER_BINARY) + " " + (dir.path() / "scene.json").string() +
+                          " --law plastic --out " + out.string() + " 2> " + (dir.path() / "stderr.txt").string();
+  EXPECT_NE(std::system(bad.c_str()), 0);
+  EXPECT_EQ(first_line(dir.path() / "stderr.txt"),
+            "mpm_solver: --law: expected live, cache or hybrid, got \"plastic\"");
+  // A library that does not exist: the loader's error, with the rewritten scene named.
+  const std::string missing = std::string(MPM_SOLVER_BINARY) + " " + (dir.path() / "scene.json").string() +
+                              " --library " + (dir.path() / "nolib").string() + " --out " + out.string() + " 2> " +
+                              (dir.path() / "stderr.txt").string();
+  EXPECT_NE(std::system(missing.c_str()), 0);
+  const std::string line = first_line(dir.path() / "stderr.txt");
+  EXPECT_EQ(line.rfind("mpm_solver: scene.json: /materials/0", 0), 0u) << line;
+  EXPECT_NE(line.find("as rewritten by --law/--library: " + (out / "scene" / "scene.json").string()),
+            std::string::npos)
+      << line;
+}
+
+}  // namespace
+}  // namespace grainbank::mpm::app
