@@ -24,7 +24,9 @@ const std::vector<std::string>& record_columns() {
 }
 
 std::vector<double> record_values(const PathRecord& r) {
-  const dem::Mat3& s = r.stress;
+  // The Cauchy stress is symmetric; the Love-Weber sum of a finite cell is so only up to fluctuations.
+  // Report its symmetric part, as the library stores it.
+  const dem::Mat3 s = 0.5 * (r.stress + r.stress.transpose());
   const dem::CellMeasures& m = r.measures;
   return {r.time,  r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), std::log(r.F.determinant()),
           s(0, 0), s(1, 1),   s(2, 2),   s(0, 1),   s(0, 2),   s(1, 2),
