@@ -3,7 +3,9 @@
 #include <bit>
 #include <cstdint>
 #include <cstdio>
+#include <charconv>
 #include <sstream>
+#include <type_traits>
 #include <stdexcept>
 
 namespace grainbank::db {
@@ -48,12 +50,18 @@ std::string hex16(std::uint64_t value) {
   return text;
 }
 
+// Shortest text that reads back to the same value: 0.2, not 0.20000000000000001.
 template <class T>
 std::string to_text(const T& value) {
-  std::ostringstream out;
-  out.precision(17);
-  out << std::boolalpha << value;
-  return out.str();
+  if constexpr (std::is_floating_point_v<T>) {
+    char text[32];
+    const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+    return std::string(text, end);
+  } else {
+    std::ostringstream out;
+    out << std::boolalpha << value;
+    return out.str();
+  }
 }
 
 }  // namespace
