@@ -2,12 +2,14 @@
 // MUSL time integration with a FLIP/PIC blend, gravity and rigid obstacles. Knows no file format:
 // scenes are built through this interface (io/ reads them from JSON).
 #pragma once
+#include <optional>
 #include <memory>
 #include <vector>
 
 #include "constitutive_law.hpp"
 #include "gravity.hpp"
 #include "grid.hpp"
+#include "homogeneous_drive.hpp"
 #include "material_point.hpp"
 #include "obstacle.hpp"
 #include "time_step.hpp"
@@ -23,6 +25,8 @@ struct SolverSettings {
   // A point whose strain increment (composed over the steps it skipped) has a norm below this skips
   // the constitutive call: its stress only turns with the spin. 0 = never skip.
   double skip_strain_increment = 0;
+  // When set, the whole domain is driven homogeneously (element tests); forces are then ignored.
+  std::optional<HomogeneousDrive> homogeneous_drive;
 };
 
 // Wall time spent in each part of the step [s], summed over steps.
@@ -41,6 +45,8 @@ class Solver {
                           const Vec2& velocity = Vec2::Zero());
   void add_obstacle(Obstacle obstacle);
   void set_gravity(const Gravity& gravity) { gravity_ = gravity; }
+  // Drives the whole domain homogeneously from the next step on (see homogeneous_drive.hpp).
+  void set_homogeneous_drive(std::optional<HomogeneousDrive> drive) { settings_.homogeneous_drive = drive; }
 
   // Criteria for the next step (their minimum, capped by max_time_step, is the step to take).
   TimeStepLimits time_step_limits() const;

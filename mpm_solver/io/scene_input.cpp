@@ -30,6 +30,17 @@ Vec2 vec2(const JsonNode& node) {
   return {node.at(0).number(), node.at(1).number()};
 }
 
+// {"L": [[Lxx, Lxy], [Lyx, Lyy]], "origin": [x, y]}: the whole domain deformed homogeneously.
+HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
+  node.allow_only({"L", "origin"});
+  const JsonNode rows = node.at("L", "[[Lxx, Lxy], [Lyx, Lyy]]");
+  if (rows.array_size("[[Lxx, Lxy], [Lyx, Lyy]]") != 2) rows.fail_expected("[[Lxx, Lxy], [Lyx, Lyy]]");
+  HomogeneousDrive drive;
+  for (int i = 0; i < 2; ++i) drive.velocity_gradient.row(i) = vec2(rows.at(static_cast<std::size_t>(i))).transpose();
+  drive.origin = node.has("origin") ? vec2(node.at("origin", "")) : Vec2::Zero();
+  return drive;
+}
+
 std::vector<Vec2> vertices(const JsonNode& node) {
   std::vector<Vec2> out;
   const std::size_t n = node.array_size("an array of [x, y] vertices");
@@ -262,7 +273,8 @@ Scene load_scene(const std::filesystem::path& file) {
   settings.time_step.cfl = time.number_or("cfl", settings.time_step.cfl, Range::between(0, 1, true, false));
   settings.time_step.contact = time.number_or("contact_factor", settings.time_step.contact, Range::between(0, 1, true, false));
   if (const auto integration = root.find("integration")) {
-    integration->allow_only({"flip", "sort_interval", "skip_strain_increment"});
+    integration->allow_only({"flip", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
+    if (const auto drive = integration->find("homogeneous_drive")) settings.homogeneous_drive = read_homogeneous_drive(*drive);
     settings.skip_strain_increment =
         integration->number_or("skip_strain_increment", settings.skip_strain_increment, Range::at_least(0));
     settings.flip = integration->number_or("flip", settings.flip, Range::between(0, 1, false, false));

@@ -2,13 +2,11 @@
 // path driver, app::drive_along_path) along the same history of increments, to round-off.
 //
 // With MUSL a lone free point always sees L = 0 (every node it touches gets its own velocity), so
-// the deformation is imposed kinematically: after the grid update and again after the MUSL remap,
-// every node gets v_i = L x_i. Cubic B-splines reproduce linear fields (Σ_i x_i ⊗ ∇N_i = I with the
-// full 4×4 stencil), so the point's velocity gradient is L and it moves affinely. The Solver has no
-// such drive, so the step is composed here from the same transfer functions Solver::step calls.
-// dem_sampler applies F_inc = exp(L Δt) per record interval, the MPM F_inc = I + Δt L_p: the drive
-// uses L_p = (exp(L Δt) − I)/Δt so that both cells receive the same increments (for simple shear,
-// L² = 0 and the two coincide).
+// the solver drives the domain kinematically (SolverSettings::homogeneous_drive): every node gets
+// v_i = L (x_i - x_0). Cubic B-splines reproduce linear fields, so the point's velocity gradient is L
+// and it moves affinely. dem_sampler applies F_inc = exp(L Δt) per record interval, the MPM
+// F_inc = I + Δt L_p: the drive uses L_p = (exp(L Δt) - I)/Δt so that both cells receive the same
+// increments (for simple shear, L² = 0 and the two coincide).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -17,22 +15,13 @@
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
 #include "core/live_dem_law.hpp"
-#include "core/transfers.hpp"
+#include "common/temporary_directory.hpp"
+#include "core/solver.hpp"
+#include "io/scene_input.hpp"
 #include "path_driver.hpp"
 
 namespace grainbank::mpm {
 namespace {
-
-// v_i = L (x_i − x_0) at every node, no nodal acceleration.
-void impose_homogeneous_velocity(Grid& grid, const Mat2& L, const Vec2& x0) {
-  for (int row = 0; row < grid.nodes_y(); ++row)
-    for (int col = 0; col < grid.nodes_x(); ++col) {
-      const std::size_t k = static_cast<std::size_t>(col) + static_cast<std::size_t>(row) * grid.nodes_x();
-      const Vec2 x = grid.lower() + grid.cell_size() * Vec2(col - 1, row - 1);  // ghost ring: column 0 is i = −1
-      grid.velocity[k] = L * (x - x0);
-      grid.acceleration[k].setZero();
-    }
-}
 
 TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
   const dem::DemCell cell_template = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
@@ -49,38 +38,24 @@ TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
   std::vector<app::PathRecord> records;
   app::drive_along_path(alone, path, [&](const app::PathRecord& r) { records.push_back(r); });
 
-  // The MPM: one live point, its grid velocities imposed.
+  // The MPM: one live point in a homogeneously driven domain, stepped by Solver::step.
   LiveDemSettings settings;
   settings.substepping = path.substepping;
-  LiveDemLaw law(cell_template, settings);
-  Grid grid(Vec2(0, 0), 0.1, 8, 8);
-  std::vector<MaterialPoint> points(1);
-  MaterialPoint& mp = points[0];
-  mp.slot = static_cast<std::uint32_t>(law.add_point(mp.stress));
-  mp.position = Vec2(0.43, 0.37), mp.mass = 1e-3, mp.volume = mp.initial_volume = 1e-2;
-  const Vec2 x0 = mp.position;
-  std::vector<Stencil> stencils;
-  ScatterBuffers buffers(grid.node_count());
+  Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
+  const std::size_t law = solver.add_law(std::make_unique<LiveDemLaw>(cell_template, settings));
+  const Vec2 x0(0.43, 0.37);
+  solver.add_point(law, x0, 1e-2, 0.05);
 
   double worst_stress = 0, worst_volume = 0, worst_gradient = 0;
   std::size_t record = 1;
-  Vec2 affine_position = mp.position;
+  Vec2 affine_position = x0;
   for (const app::PathSegment& segment : path.segments) {
     const double dt = path.record_interval;
     const Mat2 L = ((dem::matrix_exponential(segment.L * dt) - dem::Mat3::Identity()) / dt).topLeftCorner<2, 2>();
+    solver.set_homogeneous_drive(HomogeneousDrive{L, x0});
     for (int k = 0; k < std::lround(segment.duration / dt); ++k, ++record) {
-      compute_stencils(grid, points, stencils);
-      particles_to_grid(grid, points, stencils, buffers);
-      update_grid(grid, Vec2::Zero());
-      impose_homogeneous_velocity(grid, L, x0);
-      grid_to_particles(grid, points, stencils, dt, 0.0);
-      remap_velocities(grid, points, stencils, buffers);
-      impose_homogeneous_velocity(grid, L, x0);
-      mp.velocity_gradient = velocity_gradient(grid, stencils[0]);
-      const Mat2 F_inc = Mat2::Identity() + dt * mp.velocity_gradient;
-      mp.deformation_gradient = F_inc * mp.deformation_gradient;
-      law.update(mp.slot, F_inc, dt, mp.stress);
-      mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
+      solver.step(dt);
+      const MaterialPoint& mp = solver.points()[0];  // re-read: the solver re-sorts its points
       affine_position = x0 + (Mat2::Identity() + dt * L) * (affine_position - x0);
 
       const app::PathRecord& r = records.at(record);
@@ -92,7 +67,7 @@ TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
                                std::abs(mp.stress.in_plane(0, 1) - 0.5 * (s(0, 1) + s(1, 0))) / scale,
                                std::abs(mp.stress.zz - s(2, 2)) / scale});
       worst_volume = std::max(worst_volume, std::abs(mp.volume / mp.initial_volume - r.F.determinant()));
-      EXPECT_NEAR(law.damage(mp.slot), r.measures.damage, 1e-15);
+      EXPECT_NEAR(solver.law(law).damage(mp.slot), r.measures.damage, 1e-15);
     }
   }
   std::printf("largest relative deviations from dem_sampler run: L %.2g, stress %.2g, volume ratio %.2g\n",
@@ -100,11 +75,47 @@ TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
   EXPECT_LT(worst_gradient, 1e-12);  // B-spline linear completeness, to round-off
   EXPECT_LT(worst_stress, 1e-10);
   EXPECT_LT(worst_volume, 1e-12);
-  EXPECT_LT((mp.position - affine_position).norm(), 1e-14);  // the point moved with the imposed field
+  EXPECT_LT((solver.points()[0].position - affine_position).norm(), 1e-14);  // the point moved with the imposed field
   EXPECT_EQ(record, records.size());
   // The path did something: sheared and compressed the cell.
   EXPECT_GT(std::abs(records.back().stress(0, 1)) + std::abs(records.back().stress(1, 1) - records.front().stress(1, 1)),
             1.0);
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
+
+namespace grainbank::mpm {
+namespace {
+
+TEST(HomogeneousLive, SceneDrivesEveryPointWithItsVelocityGradient) {
+  // The scene key integration.homogeneous_drive reaches the solver: every point of a block follows
+  // F = (I + Δt L)^n exactly, and a malformed L is refused naming its JSON path.
+  const TemporaryDirectory folder("homogeneous-scene");
+  auto scene = [](const std::string& drive) {
+    return R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
+      "time": {"end": 0.01, "output_interval": 0.01},
+      "integration": {"flip": 0, "homogeneous_drive": )" + drive + R"(},
+      "materials": [{"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
+      "regions": [{"material": "a", "rectangle": {"min": [0.3, 0.3], "max": [0.6, 0.5]}, "points_per_cell": 2}]})";
+  };
+  io::Scene s = io::load_scene(folder.write("scene.json", scene(R"({"L": [[0.5, 2], [0, -0.5]], "origin": [0.45, 0.4]})")));
+  Mat2 L;
+  L << 0.5, 2, 0, -0.5;
+  const double dt = 1e-3;
+  Mat2 expected = Mat2::Identity();
+  for (int k = 0; k < 10; ++k, expected = (Mat2::Identity() + dt * L) * expected) s.solver->step(dt);
+  ASSERT_GT(s.solver->points().size(), 10u);
+  for (const MaterialPoint& mp : s.solver->points())
+    EXPECT_LT((mp.deformation_gradient - expected).norm(), 1e-12) << "point " << mp.id;
+
+  const auto bad = folder.write("bad.json", scene(R"({"L": [[0.5, 2]]})"));
+  try {
+    io::load_scene(bad);
+    FAIL() << "a one-row L must be refused";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.json: /integration/homogeneous_drive/L"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
