@@ -2,6 +2,8 @@
 // (seed Eq. 3 sub-stepping without overshoot), and objectivity of the stress under rigid rotation.
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include <unsupported/Eigen/MatrixFunctions>
 
 #include "dem_test_util.hpp"
@@ -188,6 +190,19 @@ DemCell with_spin(const DemCell& c, const Vec3& omega) {
   return DemCell(std::move(st), c.material(), c.skin());
 }
 
+// The same cell turned rigidly about z at rate ω for `increments` increments (spheres spinning with
+// it, as material turning rigidly does), and left at rest for the same time: the like-for-like pair.
+std::pair<DemCell, DemCell> turn_rigidly(const DemCell& loaded, double omega, double duration, int increments,
+                                         const Substepping& q) {
+  DemCell turning = with_spin(loaded, Vec3(0, 0, omega));
+  DemCell resting = loaded;
+  for (int k = 0; k < increments; ++k) {
+    turning.advance(rotation_z(omega * duration), duration, q);
+    resting.advance(Mat3::Identity(), duration, q);
+  }
+  return {std::move(turning), std::move(resting)};
+}
+
 TEST(Objectivity, RigidRotationOfLoadedCellRotatesItsStress) {
   // A prepared frictional cell, sheared a little so that its stress is anisotropic, then turned
   // rigidly by R through many small rotation increments: σ' = R σ Rᵀ. The reference is the same cell
@@ -203,12 +218,7 @@ TEST(Objectivity, RigidRotationOfLoadedCellRotatesItsStress) {
   const double omega = 20;  // rad/s about z
   const double angle_inc = omega * duration;
   const int increments = 524;  // ≈ 30°
-  DemCell turning = with_spin(loaded, Vec3(0, 0, omega));
-  DemCell resting = loaded;
-  for (int k = 0; k < increments; ++k) {
-    turning.advance(rotation_z(angle_inc), duration, q);
-    resting.advance(Mat3::Identity(), duration, q);
-  }
+  const auto [turning, resting] = turn_rigidly(loaded, omega, duration, increments, q);
   const Mat3 r = rotation_z(angle_inc * increments);
   EXPECT_LT((turning.deformation_gradient() - r * loaded.deformation_gradient()).cwiseAbs().maxCoeff(), 1e-12);
   const Mat3 s0 = loaded.measures().stress, s_rest = resting.measures().stress, s_turn = turning.measures().stress;
@@ -243,12 +253,7 @@ TEST(Objectivity, RigidRotationOfFrictionlessCellRotatesItsStress) {
   ASSERT_GT(loaded.measures().coordination, 6.0) << "test design: a jammed frictionless packing";
   const double omega = 20, angle_inc = omega * duration;
   const int increments = 524;
-  DemCell turning = with_spin(loaded, Vec3(0, 0, omega));
-  DemCell resting = loaded;
-  for (int k = 0; k < increments; ++k) {
-    turning.advance(rotation_z(angle_inc), duration, q);
-    resting.advance(Mat3::Identity(), duration, q);
-  }
+  const auto [turning, resting] = turn_rigidly(loaded, omega, duration, increments, q);
   const Mat3 r = rotation_z(angle_inc * increments);
   const Mat3 s_rest = resting.measures().stress, s_turn = turning.measures().stress;
   const double p = pressure_of(s_rest);
