@@ -399,6 +399,15 @@ std::size_t DemCell::contact_count() const {
   return c;
 }
 
+double DemCell::max_overlap() const {
+  double largest = 0;
+  for (const Pair& p : pairs_) {
+    const double rsum = radius_[p.i] + radius_[p.j];
+    largest = std::max(largest, 1 - (x_[p.j] - x_[p.i] + shift_[p.image]).norm() / rsum);
+  }
+  return largest;
+}
+
 CellMeasures DemCell::measures() const {
   CellMeasures m;
   const std::size_t n = radius_.size();

@@ -93,6 +93,7 @@ class DemCell {
   std::size_t size() const { return radius_.size(); }
   std::size_t pair_count() const { return pairs_.size(); }
   std::size_t contact_count() const;           // pairs with overlap
+  double max_overlap() const;                  // largest -d_n / (R_i + R_j) over the pairs (0: none)
   std::int64_t flips() const { return flips_; }
   std::int64_t list_builds() const { return list_builds_; }
   const Material& material() const { return material_; }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 
 namespace grainbank::mpm {
@@ -29,6 +30,14 @@ Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, dou
   if (overlap <= 0 || d == 0) {
     if (contact_.friction > 0) tangential_[id] = 0;
     return Vec2::Zero();
+  }
+  if (overlap > kMaxPenetration * radius) {
+    std::ostringstream msg;
+    msg << "penetrates the obstacle by " << overlap << " m, more than " << kMaxPenetration << " of its disk radius "
+        << radius << " m, at speed " << (v - velocity_).norm() << " m/s: raise the obstacle's k_n (now " << contact_.k_n
+        << " N/m per m; the contact stops a point within radius/2 only if k_n > 4 m v^2 / radius^2 = "
+        << 4 * mass * (v - velocity_).squaredNorm() / (radius * radius) << ") or lower the impact speed";
+    throw PenetrationError(msg.str());
   }
   // Unit normal pushing the point out of the obstacle.
   const Vec2 n = (inside ? -to_point : to_point) / d;

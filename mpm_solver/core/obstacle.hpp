@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <stdexcept>
 #include <vector>
 
 #include "geometry.hpp"
@@ -17,6 +18,13 @@ struct ContactParameters {
   double k_t = 0;            // tangential stiffness ≥ 0
   double friction = 0;       // Coulomb μ ≥ 0 (0: no tangential force at all)
   double damping_ratio = 0;  // ζ ∈ [0, 1] of the normal dashpot
+};
+
+// Largest overlap of a point's disk with an obstacle, as a fraction of the disk radius.
+inline constexpr double kMaxPenetration = 0.5;
+
+struct PenetrationError : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 class Obstacle {
@@ -40,6 +48,9 @@ class Obstacle {
 
   // Contact force on the disk (centre x, radius r, velocity v, mass m) of point `id` at time t over a
   // step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
+  // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
+  // radius: the spring is too soft for the impact, and a centre crossing a line would be pushed on
+  // through it (silent tunnelling) instead of back.
   Vec2 contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass, double t,
                      double dt);
 

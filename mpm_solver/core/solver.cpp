@@ -21,6 +21,28 @@ void timed(double& total, F&& f) {
   f();
   total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+// The first exception thrown in an OpenMP loop over points (none may escape the parallel region),
+// rethrown afterwards as a std::runtime_error prefixed with the context of the point it concerns.
+class FirstFailure {
+ public:
+  void capture(const std::string& context, const std::exception& e) {
+#pragma omp critical(mpm_first_failure)
+    if (!failure_) failure_ = std::make_exception_ptr(std::runtime_error(context + e.what()));
+  }
+  void rethrow_if_any() const {
+    if (failure_) std::rethrow_exception(failure_);
+  }
+
+ private:
+  std::exception_ptr failure_;
+};
+
+std::string at_time(double t) {
+  std::ostringstream out;
+  out << " at t = " << t << " s: ";
+  return out.str();
+}
 }  // namespace
 
 Solver::Solver(Grid grid, SolverSettings settings)
@@ -125,14 +147,24 @@ void Solver::locate_points() {
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
+  FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
     mp.external_force.setZero();
-    for (Obstacle& o : obstacles_)
-      if (o.active(time_))
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+      Obstacle& o = obstacles_[k];
+      if (!o.active(time_)) continue;
+      try {
         mp.external_force += o.contact_force(mp.id, mp.position, mp.velocity, mp.radius, mp.mass, time_, dt);
+      } catch (const std::exception& e) {
+        failure.capture("material point " + std::to_string(mp.id) + " (obstacle " + std::to_string(k) + ")" +
+                            at_time(time_),
+                        e);
+      }
+    }
   }
+  failure.rethrow_if_any();
 }
 
 void Solver::update_stresses(double dt) {
@@ -145,7 +177,7 @@ void Solver::update_stresses(double dt) {
   const int chunk = any_expensive_law ? 1 : 256;
   const double skip = settings_.skip_strain_increment;
   long skipped = 0;
-  std::exception_ptr failure;
+  FirstFailure failure;
 #pragma omp parallel for schedule(dynamic, chunk) reduction(+ : skipped) if (any_expensive_law || n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
@@ -168,16 +200,11 @@ void Solver::update_stresses(double dt) {
       }
       mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
     } catch (const std::exception& e) {
-#pragma omp critical(mpm_stress_failure)
-      if (!failure) {
-        std::ostringstream msg;
-        msg << "material point " << mp.id << " (law " << laws_[mp.law]->name() << ") at t = " << time_
-            << " s: " << e.what();
-        failure = std::make_exception_ptr(std::runtime_error(msg.str()));
-      }
+      failure.capture("material point " + std::to_string(mp.id) + " (law " + laws_[mp.law]->name() + ")" + at_time(time_),
+                      e);
     }
   }
-  if (failure) std::rethrow_exception(failure);
+  failure.rethrow_if_any();
   skipped_updates_ += skipped;
   point_updates_ += n;
 }

@@ -53,7 +53,8 @@ class Solver {
   double stable_time_step() const;
 
   // One MUSL step of length dt. Throws std::runtime_error (naming the point) when a point leaves
-  // the grid or its law fails; the solver is then not to be stepped further.
+  // the grid, penetrates an obstacle too deeply (naming the obstacle) or its law fails; the solver
+  // is then not to be stepped further.
   void step(double dt);
 
   double time() const { return time_; }

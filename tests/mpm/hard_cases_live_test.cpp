@@ -1,0 +1,70 @@
+// A live DEM point driven toward a cell only a few grains thick. Simple shear never gets there (the
+// cell flips to a reduced basis and goes on); flattening does, and the run must then stop with an
+// error naming the material point, the quantity (the cell's width against its interaction range)
+// and the remedy, with every stress finite up to that step.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "cell/preparation.hpp"
+#include "cell/snow_preset.hpp"
+#include "core/live_dem_law.hpp"
+#include "mpm_test_util.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+// One live point (30-sphere snow cell) in a domain deformed homogeneously at L.
+Solver driven_live_point(const dem::DemCell& cell_template, const Mat2& L) {
+  Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
+  const std::size_t law = solver.add_law(std::make_unique<LiveDemLaw>(cell_template, LiveDemSettings{}));
+  solver.add_point(law, Vec2(0.43, 0.37), 1e-2, 0.05);
+  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
+  return solver;
+}
+
+const dem::DemCell& snow_cell() {
+  static const dem::DemCell cell = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
+  return cell;
+}
+
+TEST(HardCasesLive, SimpleShearedLiveCellFlipsInsteadOfThinning) {
+  Mat2 L;
+  L << 0, 40, 0, 0;  // γ = 0.6 over 0.015 s: the tilt passes one half
+  Solver solver = driven_live_point(snow_cell(), L);
+  ASSERT_NO_THROW(testing::run_until(solver, 0.015, [](const Solver& s) {
+    ASSERT_TRUE(s.points()[0].stress.in_plane.allFinite());
+  }));
+  const auto& law = dynamic_cast<const LiveDemLaw&>(solver.law(0));
+  EXPECT_GE(law.cell(0).flips(), 1);
+  EXPECT_NEAR(law.cell(0).deformation_gradient()(0, 1), solver.points()[0].deformation_gradient(0, 1), 1e-9);
+}
+
+TEST(HardCasesLive, FlattenedLiveCellStopsNamingThePointTheWidthAndTheRemedy) {
+  // Plane-strain flattening ε_yy = -ε_xx: the y width of the ~3-grain cell falls below twice the
+  // interaction range (largest diameter + skin) after about 25 % strain.
+  Mat2 L;
+  L << 10, 0, 0, -10;
+  Solver solver = driven_live_point(snow_cell(), L);
+  long steps = 0;
+  try {
+    testing::run_until(solver, 0.1, [&](const Solver& s) {
+      ASSERT_TRUE(s.points()[0].stress.in_plane.allFinite()) << "step " << s.steps();
+      ASSERT_TRUE(std::isfinite(s.points()[0].volume));
+      steps = s.steps();
+    });
+    FAIL() << "a cell thinner than two interaction ranges was driven on";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    std::printf("after %ld steps, t = %g s: %s\n", steps, solver.time(), what.c_str());
+    EXPECT_NE(what.find("material point 0 (law live)"), std::string::npos) << what;
+    EXPECT_NE(what.find("periodic cell too thin"), std::string::npos) << what;
+    EXPECT_NE(what.find("smallest width"), std::string::npos) << what;
+    EXPECT_NE(what.find("more spheres"), std::string::npos) << what;
+  }
+  EXPECT_GT(solver.time(), 0.015) << "the cell stops only when really thin, not at the first squeeze";
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
