@@ -27,7 +27,7 @@ namespace grainbank::lookup {
 
 struct IndexedRecord {
   db::StateKey key;
-  db::Stress6 material_stress;  // Rᵀ σ R of the record, tension-positive [Pa]
+  RecordResponse response;  // material-frame stress and the cell measures
   RecordRef origin;
 };
 

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "blend.hpp"
 #include "key_block.hpp"
 #include "state_key.hpp"
 #include "store/library.hpp"
@@ -17,9 +18,6 @@ struct IndexSnapshot {
 };
 
 namespace {
-
-// Records closer than this (in key units) count as the same state: their answer is exact.
-constexpr double kSameState = 1e-12;
 
 void atomic_max(std::atomic<double>& target, double value) {
   double current = target.load(std::memory_order_relaxed);
@@ -43,8 +41,9 @@ std::shared_ptr<const IndexSnapshot> with_block(const IndexSnapshot& old, std::v
 
 IndexedRecord indexed_record(const db::Record& r, const RecordRef& origin, const db::KeyScales& scales) {
   const PolarDecomposition polar = polar_decomposition(r.F);
-  return {state_key(polar, r.L, r.damage, scales),
-          db::to_stress6(to_material_frame(db::from_stress6(r.stress), polar.R)), origin};
+  const RecordResponse response{db::to_stress6(to_material_frame(db::from_stress6(r.stress), polar.R)), r.damage,
+                                r.coordination, r.solid_fraction};
+  return {state_key(polar, r.L, r.damage, scales), response, origin};
 }
 
 }  // namespace
@@ -129,25 +128,18 @@ LookupAnswer LookupIndex::answer(const LookupState& state, const LookupOptions& 
   result.hit = result.distance <= options.tolerance;
   result.nearest = candidates[0].block->record(candidates[0].row).origin;
 
-  // 1/d² weights; when the nearest record is the query's own state, only same-state records count.
-  const bool exact = result.distance <= kSameState;
-  std::vector<double> weights(n);
-  double weight_sum = 0;
+  std::vector<Neighbour> neighbours;
+  neighbours.reserve(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const double d = std::sqrt(candidates[i].distance2);
-    weights[i] = exact ? (d <= kSameState ? 1.0 : 0.0) : 1.0 / candidates[i].distance2;
-    weight_sum += weights[i];
+    const IndexedRecord& r = candidates[i].block->record(candidates[i].row);
+    neighbours.push_back({&r.response, std::sqrt(candidates[i].distance2)});
   }
-  dem::Mat3 blended = dem::Mat3::Zero();
-  for (std::size_t i = 0; i < n; ++i)
-    blended += weights[i] / weight_sum *
-               db::from_stress6(candidates[i].block->record(candidates[i].row).material_stress);
-  double spread2 = 0;
-  for (std::size_t i = 0; i < n; ++i)
-    spread2 += weights[i] / weight_sum *
-               (db::from_stress6(candidates[i].block->record(candidates[i].row).material_stress) - blended).squaredNorm();
-  result.estimated_error = std::sqrt(spread2);
-  result.stress = to_lab_frame(blended, polar.R);
+  const Blended blended = blend(neighbours);
+  result.estimated_error = blended.estimated_error;
+  result.damage = blended.response.damage;
+  result.coordination = blended.response.coordination;
+  result.solid_fraction = blended.response.solid_fraction;
+  result.stress = to_lab_frame(db::from_stress6(blended.response.material_stress), polar.R);
   return result;
 }
 

@@ -3,11 +3,12 @@
 //
 // Promises:
 // - query() answers from the k records nearest in key space (state_key.hpp; Euclidean distance,
-//   kd-tree): their material-frame stresses blended with weights 1/d² (records at distance 0 take
-//   all the weight, so a library state is answered exactly), turned into the query's frame with
-//   the query's own rotation, σ = R σ̂ Rᵀ. hit = (nearest distance <= tolerance). The estimated error
-//   is the weighted RMS spread of the k stresses around the answer (Frobenius norm, Pa): 0 for one
-//   neighbour or an exact match, large where neighbours disagree.
+//   kd-tree): their material-frame stresses and cell measures blended with weights 1/d² (blend.hpp;
+//   a record at distance 0 answers alone, so a library state is answered exactly), the
+//   stress turned into the query's frame with the query's own rotation, σ = R σ̂ Rᵀ.
+//   hit = (nearest distance <= tolerance). The estimated error is the weighted RMS deviation of the
+//   k stresses from the blend (Frobenius norm, Pa): 0 for an exact match, large where neighbours
+//   disagree.
 // - query(), query_brute_force(), size() and stats() may be called from any number of threads at
 //   once, also while another thread inserts or refreshes: a query sees the index as it was when it
 //   started (an immutable snapshot behind an atomic pointer) and never waits for a writer.

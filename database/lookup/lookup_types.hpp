@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "cell/types.hpp"
+#include "store/record.hpp"
 
 namespace grainbank::lookup {
 
@@ -23,6 +24,15 @@ struct LookupState {
   double damage = 0;                    // D = 1 - N_b / N_b(0)
 };
 
+// What an indexed record answers: its stress in the material frame, Rᵀ σ R (tension-positive,
+// Pa), and the cell measures the MPM needs besides stress.
+struct RecordResponse {
+  db::Stress6 material_stress{};
+  double damage = 0;          // D
+  double coordination = 0;    // Z
+  double solid_fraction = 0;  // φ
+};
+
 struct LookupOptions {
   std::size_t k = 4;       // neighbours blended (at least 1)
   double tolerance = 0.5;  // a hit needs the nearest record within this key distance
@@ -32,7 +42,8 @@ struct LookupAnswer {
   dem::Mat3 stress = dem::Mat3::Zero();  // R σ̂ Rᵀ in the query's frame; zero when the index is empty
   double distance = std::numeric_limits<double>::infinity();  // to the nearest record
   bool hit = false;                                           // distance <= tolerance
-  double estimated_error = 0;  // weighted spread of the k answers around `stress` [Pa]
+  double estimated_error = 0;  // blend.hpp: spread of the k answers around the blend [Pa]
+  double damage = 0, coordination = 0, solid_fraction = 0;  // blended like the stress
   std::size_t neighbours = 0;  // answers blended (< k only when the index holds fewer records)
   RecordRef nearest;           // origin of the nearest record (valid when neighbours > 0)
 };

@@ -33,6 +33,12 @@ std::optional<std::int64_t> find_path(Catalogue& catalogue, std::int64_t templat
 std::int64_t reset_running_paths(Catalogue& catalogue) {
   SqliteConnection& db = catalogue.connection();
   SqliteTransaction transaction(db);
+  // A path an MPM run recorded (its spec names the run) cannot be run again: what it committed is
+  // kept as a finished path.
+  db.prepare("UPDATE paths SET status = 'done', updated_at = ? WHERE status = 'running' AND "
+             "json_extract(spec, '$.run') IS NOT NULL")
+      .bind(1, utc_now())
+      .run();
   db.execute("DELETE FROM snapshots WHERE path_id IN (SELECT id FROM paths WHERE status = 'running')");
   db.prepare(std::string(kToPending) + "status = 'running'").bind(1, utc_now()).run();
   const std::int64_t count = changes(db);

@@ -22,6 +22,8 @@ std::vector<std::int64_t> pending_paths(Catalogue& catalogue);
 std::optional<std::int64_t> find_path(Catalogue& catalogue, std::int64_t template_id, const std::string& spec);
 
 // Every `running` path (left by a killed writer) back to pending, in one transaction. Returns how many.
+// The exception are paths recorded by an MPM run (enrichment: their spec has a "run" member), which
+// no sampler can drive: they become `done` with the records they committed.
 std::int64_t reset_running_paths(Catalogue& catalogue);
 
 // These paths back to pending if they are running (a writer abandoning its own paths).

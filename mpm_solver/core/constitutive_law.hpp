@@ -44,8 +44,10 @@ class ConstitutiveLaw {
   // (0 unless it came from a lookup) [Pa].
   virtual StressSource source(std::size_t /*slot*/) const { return StressSource::analytic; }
   virtual double estimated_error(std::size_t /*slot*/) const { return 0; }
-  // Lookups, live cells and enrichment so far (zero for laws that use no library).
+  // Lookups, live cells and enrichment so far (zero for laws that use no library): of the whole law,
+  // and of one point.
   virtual CouplingCounters counters() const { return {}; }
+  virtual CouplingCounters point_counters(std::size_t /*slot*/) const { return {}; }
   // Ends the run: writes what the law still holds (e.g. live responses for the library). Called once,
   // after the last step; throws with context when that fails.
   virtual void finish() {}

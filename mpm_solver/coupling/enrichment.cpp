@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include "lookup/state_key.hpp"
+#include "store/path_queue.hpp"
 
 namespace grainbank::mpm {
 
@@ -21,7 +22,11 @@ Enrichment::Enrichment(LibraryLink& link, int snapshot_interval)
       snapshot_interval_(snapshot_interval),
       shard_name_(run_shard_name()),
       lock_(link.locked([](db::Library& library) { return library.directory(); })) {
-  writer_ = link_.locked([&](db::Library& library) { return std::make_unique<db::ShardWriter>(library, shard_name_); });
+  writer_ = link_.locked([&](db::Library& library) {
+    // Holding the lock, this run knows every `running` path was left by a writer that died.
+    db::reset_running_paths(library.catalogue());
+    return std::make_unique<db::ShardWriter>(library, shard_name_);
+  });
 }
 
 RunPath Enrichment::start(const nlohmann::json& origin) {

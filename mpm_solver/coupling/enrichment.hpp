@@ -10,7 +10,9 @@
 // - A path is registered and started when its point turns live, gets one record per MPM step of
 //   its live cell (committed every kCommitBatch records and at each snapshot, in the store's usual
 //   commit order) and a snapshot every `snapshot_interval` records, and becomes `done` when its
-//   point returns to the cache or the run finishes. A crash leaves it `running`; merge skips it.
+//   point returns to the cache or the run finishes. A crash leaves it `running` (merge skips it)
+//   until the next writer takes the lock: then it becomes `done` with its committed records
+//   (db::reset_running_paths).
 // - Thread-safe: the library is only touched through LibraryLink::locked.
 #pragma once
 #include <chrono>

@@ -85,11 +85,10 @@ void LibraryLaw::update(std::size_t slot, const Mat2& F_inc, double dt, PointStr
   p.source = answer.hit ? StressSource::hit : StressSource::miss;
   p.error = answer.estimated_error;
   if (answer.neighbours > 0) {
-    const RecordState& r = link_->state(answer.nearest);
-    p.damage = r.damage;
+    p.damage = answer.damage;
     dem::CellMeasures m;
-    m.solid_fraction = r.solid_fraction;
-    m.coordination = r.coordination;
+    m.solid_fraction = answer.solid_fraction;
+    m.coordination = answer.coordination;
     p.modulus = model_.modulus(m);
   }
 }

@@ -2,9 +2,9 @@
 //
 // Every step a cached point computes its state key from its own deformation gradient F (composed
 // from its increments), its velocity gradient L = (F_inc − I)/Δt and its damage, and asks the
-// library: the answer's stress (rotated into the point's frame) becomes its stress, the damage and
-// coordination of the nearest record its damage and wave speed. A hit is a nearest record within
-// the tolerance.
+// library: the answer's stress (rotated into the point's frame) becomes its stress, its blended
+// damage, coordination and solid fraction the point's damage and wave speed. A hit is a nearest
+// record within the tolerance.
 // - cache: a miss is answered by the same nearest-state blend and counted (fastest, least accurate).
 // - hybrid: a miss turns the point live. Its cell is built (warm start: the last snapshot at or
 //   before the nearest record, or the template, driven to the point's F before this increment;
@@ -59,6 +59,7 @@ class LibraryLaw : public ConstitutiveLaw {
   StressSource source(std::size_t slot) const override { return points_[slot].source; }
   double estimated_error(std::size_t slot) const override { return points_[slot].error; }
   CouplingCounters counters() const override;
+  CouplingCounters point_counters(std::size_t slot) const override { return points_[slot].counters; }
   // Marks the enriched paths of the live points done. Idempotent.
   void finish() override;
 

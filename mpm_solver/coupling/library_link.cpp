@@ -17,21 +17,9 @@ LibraryLink::LibraryLink(const std::filesystem::path& dir, std::int64_t template
     : library_(open_library(dir, expected)), template_id_(template_id) {
   template_cell_.emplace(library_.restore(library_.template_cell(template_id)));
   index_ = std::make_unique<lookup::LookupIndex>(scales ? *scales : library_.key_scales());
-  // Indexed here rather than by LookupIndex::refresh: the records are read once and their damage and
-  // coordination, which a lookup does not return, are kept alongside.
-  for (const db::PathRow& path : library_.catalogue().paths()) {
-    if (path.status != db::PathStatus::done || path.record_count == 0) continue;
-    const std::vector<db::Record> records = library_.records(path.id);
-    index_->insert(path.id, 0, records);
-    std::vector<RecordState>& states = states_[path.id];
-    for (const db::Record& r : records) states.push_back({r.damage, r.solid_fraction, r.coordination});
-  }
+  index_->refresh(library_);
   for (const db::SnapshotRow& row : library_.catalogue().snapshots()) snapshots_[row.path_id].push_back(row.record_index);
   for (auto& [path, indices] : snapshots_) std::sort(indices.begin(), indices.end());
-}
-
-const RecordState& LibraryLink::state(const lookup::RecordRef& ref) const {
-  return states_.at(ref.path_id).at(static_cast<std::size_t>(ref.record_index));
 }
 
 std::optional<db::StoredCell> LibraryLink::snapshot_before(const lookup::RecordRef& ref) {

@@ -1,7 +1,6 @@
 // A scene's connection to a cell library (DESIGN.md, "Nearest-state lookup"): the library opened
 // for the material the scene expects (refused otherwise), the template its points start from, the
-// nearest-state index over every done path, what a lookup does not return (the damage and the
-// coordination of each record) and where the snapshots to warm-start from are.
+// nearest-state index over every done path and where the snapshots to warm-start from are.
 //
 // Promises: queries (index()) run concurrently from any thread; every other access to the library
 // goes through locked(), which serialises it (HDF5 and the catalogue are not thread-safe).
@@ -20,12 +19,6 @@
 
 namespace grainbank::mpm {
 
-// What the MPM needs of a record besides its stress.
-struct RecordState {
-  double damage = 0;
-  double solid_fraction = 0, coordination = 0;  // for the wave speed of a cached point
-};
-
 class LibraryLink {
  public:
   // Opens the library in `dir` and indexes its done paths, with the key scales of the library's meta
@@ -41,10 +34,6 @@ class LibraryLink {
   const dem::DemCell& template_cell() const { return *template_cell_; }
   const lookup::LookupIndex& index() const { return *index_; }
   const db::KeyScales& scales() const { return index_->scales(); }
-  std::size_t indexed_paths() const { return states_.size(); }
-
-  // The damage and coordination of an indexed record.
-  const RecordState& state(const lookup::RecordRef& ref) const;
   // The stored cell to warm-start a state near record `ref` from: the last snapshot of its path at
   // or before that record; none when the path has no such snapshot (then start from the template).
   std::optional<db::StoredCell> snapshot_before(const lookup::RecordRef& ref);
@@ -62,7 +51,6 @@ class LibraryLink {
   std::int64_t template_id_;
   std::optional<dem::DemCell> template_cell_;
   std::unique_ptr<lookup::LookupIndex> index_;
-  std::map<std::int64_t, std::vector<RecordState>> states_;         // by path, by record
   std::map<std::int64_t, std::vector<std::int64_t>> snapshots_;     // by path: record indices, sorted
 };
 

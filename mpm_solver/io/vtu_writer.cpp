@@ -41,6 +41,7 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   const std::size_t n = points.size();
   std::vector<double> xyz, velocity, stress, pressure, q, rate, damage, density, error;
   std::vector<std::int32_t> law, source;
+  std::vector<std::int64_t> hits, misses, live_steps;
   std::vector<std::int64_t> id, connectivity, offsets;
   std::vector<std::uint8_t> types(n, 1);  // VTK_VERTEX
   for (std::size_t k = 0; k < n; ++k) {
@@ -57,6 +58,10 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
     law.push_back(static_cast<std::int32_t>(mp.law));
     source.push_back(static_cast<std::int32_t>(solver.law(mp.law).source(mp.slot)));
     error.push_back(solver.law(mp.law).estimated_error(mp.slot));
+    const CouplingCounters c = solver.law(mp.law).point_counters(mp.slot);
+    hits.push_back(static_cast<std::int64_t>(c.hits));
+    misses.push_back(static_cast<std::int64_t>(c.misses));
+    live_steps.push_back(static_cast<std::int64_t>(c.live_updates));
     id.push_back(mp.id);
     connectivity.push_back(static_cast<std::int64_t>(k));
     offsets.push_back(static_cast<std::int64_t>(k + 1));
@@ -72,6 +77,10 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   arrays.add("law", "Int32", 1, law);
   arrays.add("source", "Int32", 1, source);  // StressSource: 0 analytic, 1 live, 2 hit, 3 miss
   arrays.add("estimated_error", "Float64", 1, error);
+  // Per point since the start of the run: lookups within / beyond the tolerance, steps of a live cell.
+  arrays.add("hits", "Int64", 1, hits);
+  arrays.add("misses", "Int64", 1, misses);
+  arrays.add("live_steps", "Int64", 1, live_steps);
   arrays.add("id", "Int64", 1, id);
   const std::string point_data = arrays.take_xml();
   arrays.add("points", "Float64", 3, xyz);

@@ -59,8 +59,12 @@ TEST(LookupIndex, AnswersALibraryPathExactlyAtItsOwnStates) {
 TEST(LookupIndex, InterpolatesBetweenTwoRecordsByInverseSquareDistance) {
   LookupIndex index(db::KeyScales{1e-2, 1.0, 0.05});
   db::Record a = db::test::path_record(dem::Mat3::Zero(), 0, 0.0), b = a;
-  b.damage = 0.1;  // two key units from a, nothing else differs
+  a.coordination = 6;
+  a.solid_fraction = 0.6;
+  b.damage = 0.1;  // two key units from a; stress and the measures the MPM reads differ too
   b.stress = {-3e4, -1e4, -2e4, 1e3, 0, 0};
+  b.coordination = 4;
+  b.solid_fraction = 0.5;
   index.insert(-1, 0, {a, b});
   const dem::Mat3 sa = db::from_stress6(a.stress), sb = db::from_stress6(b.stress);
 
@@ -69,12 +73,16 @@ TEST(LookupIndex, InterpolatesBetweenTwoRecordsByInverseSquareDistance) {
   EXPECT_FALSE(middle.hit);
   EXPECT_LT(relative_difference(middle.stress, 0.5 * (sa + sb)), 1e-14);
   EXPECT_NEAR(middle.estimated_error, 0.5 * (sa - sb).norm(), 1e-9);
+  EXPECT_NEAR(middle.damage, 0.05, 1e-15);
+  EXPECT_NEAR(middle.coordination, 5, 1e-14);
+  EXPECT_NEAR(middle.solid_fraction, 0.55, 1e-15);
 
   const LookupAnswer quarter = index.query({dem::Mat3::Identity(), dem::Mat3::Zero(), 0.025}, {2, 0.5});
   EXPECT_NEAR(quarter.distance, 0.5, 1e-12);
   EXPECT_TRUE(quarter.hit);
   const double wa = 1 / 0.25, wb = 1 / 2.25;
   EXPECT_LT(relative_difference(quarter.stress, (wa * sa + wb * sb) / (wa + wb)), 1e-14);
+  EXPECT_NEAR(quarter.coordination, (wa * 6 + wb * 4) / (wa + wb), 1e-14);
   EXPECT_EQ(quarter.nearest, (RecordRef{-1, 0}));
 }
 

@@ -1,11 +1,12 @@
 // Enrichment: the live responses of a hybrid run become done paths of the run's own shard; merged
 // into a library (`celldb merge`), they make a rerun of the same scene hit where the first missed.
-// A library a sampler is writing is refused.
+// A library a sampler is writing is refused; the paths of a run that died are closed by the next.
 #include <gtest/gtest.h>
 
 #include "coupling_test_util.hpp"
 #include "store/error.hpp"
 #include "store/merge.hpp"
+#include "coupling/enrichment.hpp"
 #include "store/sampler_lock.hpp"
 
 namespace grainbank::mpm {
@@ -66,6 +67,33 @@ TEST(Enrichment, ALibraryASamplerIsWritingIsRefused) {
   }
   // Without enrichment the run only reads, which the store allows at any time.
   EXPECT_NO_THROW(library_law(dir, id, coupling_settings(Fallback::warm_start, false)));
+}
+
+db::PathRow only_path(const std::filesystem::path& dir) {
+  db::Library library = db::Library::open(dir);
+  const std::vector<db::PathRow> paths = library.catalogue().paths();
+  EXPECT_EQ(paths.size(), 1u);
+  return paths.at(0);
+}
+
+TEST(Enrichment, APathLeftRunningByADeadRunIsClosedWithItsCommittedRecords) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  LibraryLink link(dir, id, nullptr);
+  const dem::DemCell& cell = link.template_cell();
+  {
+    // The run ends without finish(), as a killed one does: 4 records committed with the snapshot
+    // after the 4th, the 5th still pending.
+    Enrichment dead(link, 4);
+    RunPath path = dead.start({{"start", "template"}});
+    for (int r = 0; r < 5; ++r) dead.add(path, cell, dem::Mat3::Zero(), cell.measures().stress);
+  }
+  EXPECT_EQ(only_path(dir).status, db::PathStatus::running);
+  Enrichment next(link, 4);
+  const db::PathRow closed = only_path(dir);
+  EXPECT_EQ(closed.status, db::PathStatus::done);
+  EXPECT_EQ(closed.record_count, 4);
+  EXPECT_EQ(link.locked([&](db::Library& library) { return library.records(closed.id).size(); }), 4u);
 }
 
 }  // namespace

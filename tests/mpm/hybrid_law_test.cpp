@@ -113,6 +113,10 @@ TEST_F(MissingPoint, GoesLiveFromASnapshotWithTheCellDeformationOfThePoint) {
   EXPECT_EQ(c.misses, 1u);
   EXPECT_EQ(c.went_live, 1u);
   EXPECT_EQ(c.live_updates, 4u);
+  // The only point holds every count (the VTU fields hits, misses, live_steps).
+  EXPECT_EQ(law->point_counters(0).hits, c.hits);
+  EXPECT_EQ(law->point_counters(0).misses, c.misses);
+  EXPECT_EQ(law->point_counters(0).live_updates, c.live_updates);
   // From the snapshot after record 11 (12 increments) to the point's F after 14: driven over 2
   // increments' worth of strain in steps of at most max_drive_strain.
   EXPECT_GE(c.warm_start_increments, 2u);
