@@ -1,9 +1,10 @@
 // celldb: inspect and maintain a grainbank cell library (DESIGN.md, "Strain-rate paths and the
-// library", "Nearest-state lookup"). Exit codes: 0 success, 1 the library needs attention (verify)
-// or cannot answer (query on an empty library), 2 error.
+// library", "Nearest-state lookup"). Exit codes: 0 success, 1 the library needs attention (verify,
+// audit) or cannot answer (query on an empty library), 2 error.
 #include <CLI/CLI.hpp>
 #include <iostream>
 
+#include "celldb/audit_command.hpp"
 #include "celldb/bench_command.hpp"
 #include "celldb/export_command.hpp"
 #include "celldb/info_command.hpp"
@@ -62,6 +63,33 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--uniform", bench.uniform, "Uniformly random states instead of paths");
   bench_cmd->add_flag("--json", bench.json, "Print the figures as JSON");
 
+  AuditCommandOptions audit;
+  CLI::App* audit_cmd = app.add_subcommand(
+      "audit", "Replay sampled records (determinism), leave-one-path-out lookup errors, error vs distance");
+  audit_cmd->add_option("LIB", audit.library, "Library directory")->required();
+  audit_cmd->add_option("--samples", audit.audit.sample.records, "Records replayed (drawn among the audited paths' records)")
+      ->capture_default_str();
+  audit_cmd->add_option("--paths", audit.audit.sample.paths, "Done paths audited (one lookup index is built without each)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  audit_cmd->add_option("--seed", audit.audit.sample.seed, "Seed of the draw")->capture_default_str();
+  audit_cmd->add_option("--k", audit.audit.lookup.k, "Neighbours blended by the lookup")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  audit_cmd->add_option("--tolerance", audit.audit.lookup.tolerance, "Lookup tolerance whose hits are reported (key units)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  audit_cmd->add_option("--target", audit.audit.target, "Relative error the suggested tolerance keeps (p95 of hits)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  audit_cmd->add_option("--replay-tolerance", audit.audit.replay_tolerance,
+                        "Relative stress difference above which a replayed record is flagged")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  audit_cmd->add_option("--out", audit.out, "Output directory (default LIB/audits/<UTC time>)");
+  audit_cmd->add_flag("--json", audit.json, "Print the summary as JSON");
+  audit_cmd->add_flag("--plots", audit.plots, "Draw the PNG figures (python3 + matplotlib)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (*info_cmd) return run_info(info, std::cout);
@@ -69,6 +97,7 @@ int main(int argc, char** argv) {
     if (*query_cmd) return run_query(query, std::cout);
     if (*merge_cmd) return run_merge(merge, std::cout);
     if (*export_cmd) return run_export(export_options, std::cout);
+    if (*audit_cmd) return run_audit(audit, std::cout);
     return run_bench(bench, std::cout);
   } catch (const std::exception& e) {
     std::cerr << "celldb: error: " << e.what() << "\n";

@@ -33,13 +33,17 @@ long increment_count(const PathSpec& path) {
 }
 
 void drive_along_path(dem::DemCell& cell, const PathSpec& path,
-                      const std::function<void(const PathRecord&)>& on_record) {
+                      const std::function<void(const PathRecord&)>& on_record, long from_record) {
   long index = 0;
-  on_record(record_of(cell, index, cell.measures().stress));
+  if (from_record == 0) on_record(record_of(cell, index, cell.measures().stress));
   for (const PathSegment& segment : path.segments) {
     const long n = segment_increments(segment, path.record_interval);
     const dem::Mat3 full_increment = dem::matrix_exponential(segment.L * path.record_interval);
     for (long k = 1; k <= n; ++k) {
+      if (index < from_record) {  // already in the cell we resume from
+        ++index;
+        continue;
+      }
       const double dt =
           k < n ? path.record_interval : segment.duration - static_cast<double>(n - 1) * path.record_interval;
       const dem::Mat3 increment = k < n ? full_increment : dem::matrix_exponential(segment.L * dt);

@@ -21,7 +21,10 @@ struct PathRecord {
 long increment_count(const PathSpec& path);
 
 // Calls `on_record` with the initial state and after every increment. Engine errors propagate.
+// With `from_record` = k > 0 the cell is the path's cell right after record k (a snapshot of it): the
+// drive resumes there, calling `on_record` for records k+1, ... with the same increments, so they
+// repeat the full drive's records bit for bit (what `celldb audit` checks).
 void drive_along_path(dem::DemCell& cell, const PathSpec& path,
-                      const std::function<void(const PathRecord&)>& on_record);
+                      const std::function<void(const PathRecord&)>& on_record, long from_record = 0);
 
 }  // namespace grainbank::app
