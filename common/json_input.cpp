@@ -43,6 +43,23 @@ std::string line_and_column(const std::string& text, std::size_t byte) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+// Byte offset of the first occurrence of `token` outside JSON strings, or text.size(). nlohmann reports
+// a number too large for a double (1e999) without a position, but the token is in its message.
+std::size_t offset_outside_strings(const std::string& text, const std::string& token) {
+  bool in_string = false;
+  for (std::size_t k = 0; k < text.size(); ++k) {
+    if (in_string) {
+      if (text[k] == '\\') ++k;
+      else if (text[k] == '"') in_string = false;
+    } else if (text[k] == '"') {
+      in_string = true;
+    } else if (!token.empty() && text.compare(k, token.size(), token) == 0) {
+      return k;
+    }
+  }
+  return text.size();
+}
+
 // The part of nlohmann's message after its "[json.exception...] parse error at ...: " prefix.
 std::string parse_detail(const std::string& what) {
   const std::size_t at = what.find("parse error");
@@ -85,7 +102,11 @@ nlohmann::json load_json_file(const std::filesystem::path& file) {
   } catch (const nlohmann::json::exception& e) {  // e.g. a number too large for a double (1e999)
     std::string detail = e.what();
     if (const std::size_t bracket = detail.find("] "); bracket != std::string::npos) detail.erase(0, bracket + 2);
-    throw InputError(name + ": malformed JSON: " + detail);
+    std::string where;
+    if (const std::size_t open = detail.find('\''), close = detail.rfind('\''); open < close && close != std::string::npos)
+      if (const std::size_t at = offset_outside_strings(text, detail.substr(open + 1, close - open - 1)); at < text.size())
+        where = line_and_column(text, at + 1) + ": ";
+    throw InputError(name + ": " + where + "malformed JSON: " + detail);
   }
 }
 

@@ -5,18 +5,26 @@
 namespace grainbank::db::h5 {
 namespace {
 
-// Switched off once per process: the exceptions carry the message instead.
+// Once per process, before any other HDF5 call. Error printing is switched off: the exceptions carry
+// the message instead. So is HDF5's clean-up at exit: after a failed write (disk full) it crashes
+// closing the file whose close failed, and every object is closed by its owner before exit anyway.
 void silence_hdf5() {
   static const bool done = [] {
+    H5dont_atexit();
     H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);
     return true;
   }();
   (void)done;
 }
 
+// HDF5's messages may span lines ("file write failed: time = ...\n, filename = ..."); ours are one line.
 herr_t collect_message(unsigned, const H5E_error2_t* error, void* out) {
   auto& messages = *static_cast<std::vector<std::string>*>(out);
-  if (error->desc && *error->desc) messages.emplace_back(error->desc);
+  if (!error->desc || !*error->desc) return 0;
+  std::string text = error->desc;
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  messages.push_back(std::move(text));
   return 0;
 }
 
@@ -104,6 +112,44 @@ Object open_file(const std::filesystem::path& file, bool writable) {
   if (!writable && !open_in_this_process(file)) allow_concurrent_writer(fapl);
   const hid_t id = H5Fopen(file.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.id());
   return file_object(id, file, "not a readable HDF5 shard (truncated, corrupt, or open for writing elsewhere)");
+}
+
+namespace {
+
+// Opens with the private properties h5clear uses: the "open for write" flag ignored (and cleared on
+// closing a writable open) and no check of the file size against the space the superblock allocates.
+Object open_as_h5clear(const std::filesystem::path& file, bool writable) {
+  const Object fapl = file_access();
+  if (!writable) allow_concurrent_writer(fapl);
+  hbool_t yes = true;
+  if (H5Pset(fapl.id(), "clear_status_flags", &yes) < 0 || H5Pset(fapl.id(), "skip_eof_check", &yes) < 0)
+    fapl.fail("cannot set the properties of h5clear");
+  return file_object(H5Fopen(file.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.id()), file,
+                     "cannot open the shard even as h5clear does (damaged? run celldb verify)");
+}
+
+haddr_t end_of_allocation(const Object& root) {
+  haddr_t end = 0;
+  if (H5Fget_eoa(root.id(), &end) < 0) root.fail("cannot read the end of allocated space");
+  return end;
+}
+
+}  // namespace
+
+bool cut_short(const std::filesystem::path& file) {
+  try {
+    return end_of_allocation(open_as_h5clear(file, false)) > std::filesystem::file_size(file);
+  } catch (const StoreError&) {
+    return false;
+  }
+}
+
+void clear_stale_writer_state(const std::filesystem::path& file) {
+  // Closing the writable open writes the superblock back with the flags cleared.
+  const haddr_t end = end_of_allocation(open_as_h5clear(file, true));
+  // The committed data lies before the end of the file (it was flushed before its commit); the
+  // missing tail held uncommitted data only.
+  if (end > std::filesystem::file_size(file)) std::filesystem::resize_file(file, end);
 }
 
 void flush(const Object& file) {

@@ -43,6 +43,13 @@ Object create_file(const std::filesystem::path& file);
 // Read-only opens take no file lock: readers never block the one writer of a shard.
 Object open_file(const std::filesystem::path& file, bool writable);
 void flush(const Object& file);
+// For a shard no writer has open any more (the caller knows, e.g. by the sampler lock): clears the
+// "open for write" flag a killed writer leaves (as h5clear -s) and extends a file its writer could
+// not extend (disk full) to the size its superblock records, so HDF5 opens it again.
+void clear_stale_writer_state(const std::filesystem::path& file);
+// True when the file is shorter than the space its superblock allocates: HDF5 then refuses to open
+// it, and clear_stale_writer_state extends it back.
+bool cut_short(const std::filesystem::path& file);
 
 Object create_group(const Object& parent, const std::string& name);
 Object open_group(const Object& parent, const std::string& name);

@@ -4,6 +4,8 @@
 #include <map>
 #include <set>
 
+#include "hdf5_handle.hpp"
+
 namespace grainbank::db {
 namespace {
 
@@ -122,6 +124,17 @@ void check_stray_files(Library& library, const std::vector<ShardRow>& shards, bo
   }
 }
 
+// Repair runs with every writer stopped, so the state a killed or disk-full writer left in a shard
+// (its "open for write" flag, a file shorter than its allocated space) can be cleared first. A shard
+// that stays unopenable is reported by Shard::open below with HDF5's own reason.
+void make_openable(const std::filesystem::path& shard) {
+  if (!std::filesystem::exists(shard)) return;
+  try {
+    h5::clear_stale_writer_state(shard);
+  } catch (const StoreError&) {
+  }
+}
+
 }  // namespace
 
 std::size_t VerifyReport::orphans() const {
@@ -146,11 +159,20 @@ VerifyReport verify_library(Library& library, bool repair) {
   for (const ShardRow& row : shards) {
     ++report.shards;
     try {
+      if (repair) make_openable(library.shard_path(row));
       Shard shard = Shard::open(library.shard_path(row), repair);
       ShardChecker{library, repair, report, row, shard}.check(templates, paths, snapshots);
       if (repair) shard.flush();
     } catch (const StoreError& e) {
-      report.findings.push_back(Finding{Kind::inconsistency, library.shard_path(row).string(), "", e.what(), false});
+      // A writer whose disk filled up leaves its shard shorter than the space it allocated: what is
+      // missing was never committed, so it is an orphan, and repair extends the file.
+      if (!repair && h5::cut_short(library.shard_path(row)))
+        report.findings.push_back(Finding{Kind::orphan, library.shard_path(row).string(), "",
+                                          "file shorter than the space its writer allocated (a write failed: disk "
+                                          "full?); the missing tail held uncommitted data only",
+                                          false});
+      else
+        report.findings.push_back(Finding{Kind::inconsistency, library.shard_path(row).string(), "", e.what(), false});
     }
   }
   for (const PathRow& p : paths)

@@ -11,7 +11,7 @@
 #include "paths_input.hpp"
 #include "sample_progress.hpp"
 #include "sampler.hpp"
-#include "stop_signals.hpp"
+#include "common/stop_signals.hpp"
 #include "store/path_queue.hpp"
 #include "store/sampler_lock.hpp"
 #include "store/stale_writer.hpp"
@@ -21,6 +21,9 @@
 
 namespace grainbank::app {
 namespace {
+
+using common::install_stop_signals;
+using common::stop_signal;
 
 // What rank 0 (or the only process) sets up before any path runs. Holds the sampler lock.
 struct Setup {

@@ -4,10 +4,12 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <cstring>
 #include <exception>
 #include <string>
 
 #include "bench_command.hpp"
+#include "common/stop_signals.hpp"
 #include "run_command.hpp"
 
 using namespace grainbank::mpm::app;
@@ -48,7 +50,19 @@ int run_main(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
   o.progress = !json;
+  o.stop = &grainbank::common::install_stop_signals();
   const nlohmann::json summary = run_scene(o);
+  if (summary["interrupted"].get<bool>()) {
+    // Exit status 1, like an interrupted `dem_sampler sample`: the run did not reach its end time.
+    if (json) std::printf("%s\n", summary.dump(2).c_str());
+    const std::string restart = summary["restart"].get<std::string>();
+    std::fprintf(stderr,
+                 "mpm_solver: interrupted by %s at t = %.17g s (step %ld); restart written to %s; to resume, run the "
+                 "same command with --restart %s and another --out\n",
+                 strsignal(grainbank::common::stop_signal()), summary["final_time"].get<double>(),
+                 summary["steps"].get<long>(), restart.c_str(), restart.c_str());
+    return 1;
+  }
   if (json) {
     std::printf("%s\n", summary.dump(2).c_str());
   } else {

@@ -96,7 +96,8 @@ nlohmann::json run_scene(const RunOptions& options) {
   Schedule rows{scene.series_interval, next_after(solver.time(), scene.series_interval)};
   double dt_min = std::numeric_limits<double>::infinity(), dt_max = 0;
   Clock::time_point last_report = loop_start;
-  while (solver.time() < scene.end_time * (1 - 1e-12)) {
+  const auto stop_requested = [&] { return options.stop && options.stop->load(); };
+  while (solver.time() < scene.end_time * (1 - 1e-12) && !stop_requested()) {
     // Land exactly on the next output, row or end time.
     const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
     const double dt = std::min(solver.stable_time_step(), horizon - solver.time());
@@ -113,7 +114,10 @@ nlohmann::json run_scene(const RunOptions& options) {
   }
   if (options.progress) std::fprintf(stderr, "\n");
   const double run_time = seconds_since(loop_start);
-  io::write_restart(options.out / "restart.h5", solver);
+  // Checked once: a signal arriving after the loop ended does not make a finished run "interrupted".
+  const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12);
+  const std::filesystem::path restart = options.out / "restart.h5";
+  io::write_restart(restart, solver);
 
   const double updates = static_cast<double>(solver.steps()) * static_cast<double>(solver.points().size());
   nlohmann::json summary = {
@@ -128,7 +132,9 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"threads", omp_get_max_threads()},
       {"wall_time", {{"total", seconds_since(start)}, {"setup", setup_time}, {"steps", run_time - output_time},
                      {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
-      {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0}};
+      {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0},
+      {"interrupted", interrupted},
+      {"restart", restart.string()}};
   // Closes the run's enriched paths and reports hits, misses and skipped point-steps per law.
   summary["coupling"] = io::finish_coupling(solver);
   std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';

@@ -1,7 +1,9 @@
 // `mpm_solver SCENE.json`: runs a scene to its end time, writing VTU/PVD snapshots, the CSV series,
 // tracked points and their DEM cells, a run summary JSON and a final restart file (restart.h5) into
-// the output folder.
+// the output folder. A run asked to stop (SIGINT/SIGTERM) stops after its current step and writes the
+// same restart file and summary, so `--restart OUT/restart.h5` continues it exactly.
 #pragma once
+#include <atomic>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
@@ -17,9 +19,13 @@ struct RunOptions {
   // --law / --library: the scene as rewritten is saved to OUT/scene/<scene file name> and run.
   SceneOverrides overrides;
   bool progress = true;  // a progress line with ETA on stderr
+  // Polled after every step (the CLI wires SIGINT/SIGTERM to it): once true, the run stops there,
+  // writes OUT/restart.h5 and returns a summary with "interrupted": true.
+  const std::atomic<bool>* stop = nullptr;
 };
 
-// Returns the run summary (also written to OUT/summary.json). Throws common::InputError for scene
+// Returns the run summary (also written to OUT/summary.json; "restart" names the restart file,
+// "interrupted" tells whether the run stopped before its end time). Throws common::InputError for scene
 // errors and std::runtime_error when the run fails.
 nlohmann::json run_scene(const RunOptions& options);
 

@@ -2,7 +2,7 @@
 
 #include <csignal>
 
-namespace grainbank::app {
+namespace grainbank::common {
 namespace {
 
 std::atomic<bool> stop_requested{false};
@@ -27,4 +27,4 @@ const std::atomic<bool>& install_stop_signals() {
 
 int stop_signal() { return received; }
 
-}  // namespace grainbank::app
+}  // namespace grainbank::common

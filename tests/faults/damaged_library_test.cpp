@@ -1,0 +1,69 @@
+// Damage done to a library from outside (bit rot, a bad copy): `celldb verify` names exactly what is
+// damaged — the shard file and the records table of the one path whose chunk was hit, or the
+// catalogue — and leaves everything else readable and equal to what was committed. `--repair`
+// removes orphans only: it never changes or hides damaged committed data (it still reports it).
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+
+#include "library_fault_util.hpp"
+
+namespace grainbank::faults {
+namespace {
+
+// Overwrites the 8 bytes of `value` in `file` (it must occur exactly once) with garbage.
+void corrupt_double(const fs::path& file, double value) {
+  std::string bytes = sampler::test::slurp(file);
+  char pattern[sizeof value];
+  std::memcpy(pattern, &value, sizeof value);
+  const std::size_t at = bytes.find(std::string_view(pattern, sizeof value));
+  ASSERT_NE(at, std::string::npos);
+  ASSERT_EQ(bytes.find(std::string_view(pattern, sizeof value), at + 1), std::string::npos);
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(at));
+  f.write("\xde\xad\xbe\xef\xde\xad\xbe\xef", 8);
+}
+
+TEST_F(LibraryFaults, CorruptedRecordChunkIsReportedPreciselyAndNothingElse) {
+  const fs::path lib = fresh_library("lib", true);
+  const fs::path shard = lib / "shards" / "rank0.h5";
+  corrupt_double(shard, reference_->at(2)[5].stress[0]);
+
+  for (const bool repair : {false, true}) {
+    const Verification v = celldb_verify(lib, repair, here_.path());
+    EXPECT_EQ(v.exit_code, 1);
+    ASSERT_EQ(v.report["findings"].size(), 1u) << v.report.dump(1);
+    const auto& f = v.report["findings"][0];
+    EXPECT_EQ(f["kind"], "inconsistency");
+    EXPECT_EQ(f["file"], shard.string());
+    EXPECT_EQ(f["object"], "/paths/2/records");
+    EXPECT_NE(f["message"].get<std::string>().find("checksum"), std::string::npos) << f.dump();
+    EXPECT_FALSE(f["repaired"].get<bool>());
+    EXPECT_EQ(v.report["checked"]["paths"], 3);
+  }
+  // The other paths, the template and the snapshots read back exactly as committed.
+  db::Library opened = db::Library::open(lib);
+  for (const std::int64_t id : {1, 3}) EXPECT_EQ(opened.records(id), reference_->at(id)) << "path " << id;
+  EXPECT_NO_THROW(opened.template_cell(1));
+}
+
+TEST_F(LibraryFaults, CorruptedCataloguePageIsReportedNamingTheCatalogue) {
+  const fs::path lib = fresh_library("lib", true);
+  const fs::path catalogue = lib / "catalogue.sqlite";
+  for (const char* suffix : {"-wal", "-shm"}) fs::remove(lib / (std::string("catalogue.sqlite") + suffix));
+  {  // garbage over the second half of the file: table pages, not the header
+    std::fstream f(catalogue, std::ios::in | std::ios::out | std::ios::binary);
+    const auto size = fs::file_size(catalogue);
+    f.seekp(static_cast<std::streamoff>(size / 2));
+    f.write(std::string(size - size / 2, '\x5a').data(), static_cast<std::streamsize>(size - size / 2));
+  }
+  const Outcome o = sampler::test::run({CELLDB_BINARY, "verify", lib.string()}, here_.path());
+  EXPECT_EQ(o.exit_code, 2) << "celldb's exit code for an error";
+  EXPECT_NE((o.out + o.err).find(catalogue.string()), std::string::npos) << o.out << o.err;
+  // Nothing is reported clean: either the catalogue cannot be read, or its check lists the damage.
+  EXPECT_EQ(o.out.find("0 orphans, 0 inconsistencies"), std::string::npos) << o.out;
+}
+
+}  // namespace
+}  // namespace grainbank::faults
