@@ -1,16 +1,18 @@
 #!/usr/bin/env bash
 # grainbank in two commands:
-#   ./run.sh demo   install what is missing, build, prepare a small cohesive cell and shear it
+#   ./run.sh demo   install what is missing, build the tools, build a small cohesive cell library and run
+#                   a cohesive column collapse against it (hybrid), with figures and a report (~5 min)
 #   ./run.sh test   install what is missing, build, run the test suite (benchmarks as smoke tests)
 # Safe to run again: it installs only missing packages and rebuilds only what changed.
-# GRAINBANK_BUILD_DIR overrides the build directory (default: build).
+# GRAINBANK_BUILD_DIR overrides the build directory (default: build); GRAINBANK_DEMO_OUT the demo's
+# output folder (default: demo_out; a second demo reuses its cell library).
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 
 cd "$(dirname "$0")"
 readonly BUILD_DIR="${GRAINBANK_BUILD_DIR:-build}"
 readonly PACKAGES=(cmake g++ make libeigen3-dev libhdf5-dev libsqlite3-dev sqlite3 nlohmann-json3-dev libgtest-dev
-                   libnanoflann-dev libcli11-dev libbenchmark-dev libopenmpi-dev hdf5-tools)
+                   libnanoflann-dev libcli11-dev libbenchmark-dev libopenmpi-dev hdf5-tools python3-matplotlib)
 
 usage() {
   echo "usage: $0 demo|test" >&2
@@ -45,17 +47,18 @@ ensure_packages() {
   fi
 }
 
+# build [TARGET...]: configure, then build the given targets (default: everything).
 build() {
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$BUILD_DIR" --parallel "$(nproc)"
+  cmake --build "$BUILD_DIR" --parallel "$(nproc)" ${1:+--target "$@"}
 }
 
 [[ $# -eq 1 ]] || usage
 case "$1" in
   demo)
     ensure_packages
-    build
-    "$BUILD_DIR/dem_sampler/dem_sampler" run workflows/demo/cell.json --path workflows/demo/shear.json
+    build dem_sampler mpm_solver celldb
+    GRAINBANK_BUILD_DIR="$BUILD_DIR" workflows/demo/run_demo.sh "${GRAINBANK_DEMO_OUT:-demo_out}"
     ;;
   test)
     ensure_packages

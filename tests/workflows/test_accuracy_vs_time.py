@@ -1,0 +1,35 @@
+"""The accuracy-versus-time study (workflows/accuracy_vs_time/study.py) in its smoke version: the
+tiny column, live reference and two variants; table, Pareto plot and study JSON."""
+import csv
+import math
+
+from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+
+COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", "front_rel_err", "stress_rel_l2",
+           "deposit_rms_m"]
+
+
+class AccuracyVsTimeTest(WorkflowTest):
+    def test_smoke_study(self):
+        run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
+             "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1"])
+        with (self.out / "results.csv").open() as f:
+            rows = {r["run"]: r for r in csv.DictReader(f)}
+        self.assertEqual(sorted(rows), ["hybrid", "live", "q_sigma_0.5"])
+        self.assertEqual(list(rows["live"]), COLUMNS)
+        # The reference against itself has no error; the variants are different runs of the same scene.
+        for key in ("front_rel_err", "stress_rel_l2", "deposit_rms_m"):
+            self.assertEqual(float(rows["live"][key]), 0.0)
+        self.assertGreater(float(rows["q_sigma_0.5"]["stress_rel_l2"]), 0.0)
+        self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
+        for r in rows.values():
+            self.assertTrue(float(r["cpu_s"]) > 0 and float(r["wall_s"]) > 0)
+            self.assertTrue(all(math.isfinite(float(r[k])) for k in COLUMNS[6:]))
+        markdown = (self.out / "results.md").read_text().splitlines()
+        self.assertEqual(len(markdown), 2 + len(rows))
+        self.assertTrue(markdown[0].startswith("| run | knob |"))
+        self.assert_png(self.out / "pareto.png")
+        study = self.assert_json_fields(self.out / "study.json", ["variants", "library_cost", "runs"])
+        self.assertEqual(len(study["runs"]), 3)
+        for run_name in rows:
+            self.assert_run(self.out / "runs" / run_name, end_time=0.003, points=4)

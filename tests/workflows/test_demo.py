@@ -1,0 +1,32 @@
+"""The demo (workflows/demo/run_demo.sh) end to end on the tiny column and library, twice: outputs,
+figures and report, then the second run reuses the library."""
+from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+
+FIGURES = ["velocity.png", "strain_rate_damage.png", "source.png", "front_height.png", "hit_rate.png",
+           "tracked_damage.png"]
+
+
+class DemoTest(WorkflowTest):
+    def run_demo(self):
+        return run(["sh", WORKFLOWS / "demo" / "run_demo.sh", self.out], DEMO_SCENE=TINY_SCENE, DEMO_PATHS=TINY_PATHS)
+
+    def test_outputs_then_reuses_the_library(self):
+        first = self.run_demo()
+        self.assertIn("template 1 (prepared)", first)
+        self.assertIn("sampled 2 path(s)", first)
+        self.assert_run(self.out / "run", end_time=0.003, points=4)
+        for name in FIGURES:
+            self.assert_png(self.out / "figures" / name)
+        report = self.assert_json_fields(self.out / "report.json", [
+            "points", "steps", "library", "hit_rate_of_lookups", "went_live", "runout_m", "wall_time_s", "figures"])
+        self.assertEqual(report["points"], 4)
+        self.assertEqual(report["steps"], 30)  # 0.003 s at the scene's max_time_step 1e-4
+        self.assertGreaterEqual(report["library"]["paths"], 2)
+        self.assertTrue(0 <= report["hit_rate_of_lookups"] <= 1)
+        self.assertEqual(sorted(report["figures"]), sorted(FIGURES))
+        self.assertIn("seed Eq. 5", (self.out / "report.txt").read_text())
+
+        second = self.run_demo()
+        self.assertIn("template 1 (already in the library)", second)
+        self.assertIn("sampled 0 path(s)", second)
+        self.assert_run(self.out / "run", end_time=0.003, points=4)

@@ -1,0 +1,94 @@
+"""The shared helpers of workflows/plotting against known answers: the VTU/PVD reader on a rigid
+translation run by mpm_solver, the flow measures and errors on hand-made snapshots, the tables and
+the PNG check."""
+import json
+
+import numpy as np
+
+from workflow_test_util import BUILD, WorkflowTest, run
+from plotting import flow, png, tables, vtu
+from plotting.figures import plt
+
+
+def snapshot(xy, stress=None, ids=None):
+    xy = np.asarray(xy, dtype=float)
+    n = len(xy)
+    full = np.zeros((n, 9))
+    if stress is not None:
+        s = np.asarray(stress, dtype=float)
+        full[:, 0], full[:, 4], full[:, 1], full[:, 3] = s[:, 0], s[:, 1], s[:, 2], s[:, 2]
+    return vtu.Snapshot(0.0, xy, {"stress": full, "id": np.arange(n) if ids is None else np.asarray(ids)})
+
+
+class ReaderTest(WorkflowTest):
+    def test_rigid_translation_read_back(self):
+        # Elastic points moving at 1 m/s with no gravity and no obstacle translate exactly.
+        scene = {"grid": {"cell_size": 0.1, "cells": [10, 4]}, "time": {"end": 0.02, "output_interval": 0.01},
+                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.1], "max": [0.4, 0.3]},
+                              "velocity": [1.0, 0.0]}]}
+        (self.out / "scene.json").write_text(json.dumps(scene))
+        run([BUILD / "mpm_solver" / "mpm_solver", self.out / "scene.json", "--out", self.out / "run", "--threads", "1"])
+        snapshots = vtu.read_run(self.out / "run")
+        self.assertEqual([round(s.time, 9) for s in snapshots], [0.0, 0.01, 0.02])
+        first, last = snapshots[0], snapshots[-1]
+        self.assertEqual(len(first), 16)  # 2 × 2 cells, 2 × 2 points per cell
+        np.testing.assert_allclose(last.by_id(last.xy), first.by_id(first.xy) + [0.02, 0.0], atol=1e-12)
+        np.testing.assert_allclose(last.speed(), 1.0, atol=1e-12)
+        np.testing.assert_allclose(first.spacing(), 0.05, atol=1e-12)
+        np.testing.assert_allclose(last.fields["density"], 1000, rtol=1e-12)
+
+    def test_malformed_vtu_names_the_file(self):
+        bad = self.out / "points_000000.vtu"
+        bad.write_bytes(b"<VTKFile/>")
+        with self.assertRaisesRegex(ValueError, "points_000000.vtu"):
+            vtu.read_vtu(bad)
+
+
+class FlowTest(WorkflowTest):
+    def test_front_error_is_the_worst_relative_runout_error_past_1_cm(self):
+        reference = {"t": np.array([0, 1, 2, 3.0]), "front": np.array([1.0, 1.005, 1.02, 1.04])}
+        series = {"t": np.array([0, 1, 2, 3.0]), "front": np.array([1.0, 1.0, 1.03, 1.05])}
+        # t = 1 is skipped (reference runout 5 mm); t = 2: 0.01/0.02; t = 3: 0.01/0.04.
+        self.assertAlmostEqual(flow.front_error(series, reference), 0.5)
+        self.assertEqual(flow.front_error(reference, reference), 0.0)
+
+    def test_stress_errors(self):
+        xy = [[0, 0], [1, 0], [0, 1]]
+        stress = [[-1, -2, 0.5], [-3, -1, 0], [0, -4, 1]]
+        ref = snapshot(xy, stress)
+        self.assertAlmostEqual(flow.stress_error(snapshot(xy, 1.1 * np.array(stress)), ref), 0.1)
+        # The same points listed in another order: matched by id, or by position.
+        order = [2, 0, 1]
+        shuffled = snapshot(np.array(xy)[order], np.array(stress)[order], ids=order)
+        self.assertAlmostEqual(flow.stress_error(shuffled, ref), 0.0)
+        self.assertAlmostEqual(flow.stress_error_nearest(shuffled, ref), 0.0)
+
+    def test_deposit_profile_is_the_highest_point_per_column(self):
+        s = snapshot([[0.05, 0.1], [0.05, 0.3], [0.15, 0.2], [0.35, 0.05]])
+        np.testing.assert_allclose(flow.deposit_profile(s, [0, 0.1, 0.2, 0.3, 0.4]), [0.3, 0.2, 0.0, 0.05])
+        lower = snapshot([[0.05, 0.1], [0.15, 0.2], [0.35, 0.05]])
+        self.assertAlmostEqual(flow.profile_error(lower, s, [0, 0.1, 0.2, 0.3, 0.4]), np.sqrt(0.2 ** 2 / 4))
+
+
+class TablesTest(WorkflowTest):
+    def test_csv_round_trip_and_errors(self):
+        rows = [{"t": 0.0, "point": 1, "d": 0.5}, {"t": 0.0, "point": 2, "d": 0.25}, {"t": 1.0, "point": 1, "d": 0.75}]
+        tables.write_csv(self.out / "a.csv", rows)
+        per_point = tables.split_by(tables.read_csv(self.out / "a.csv"), "point")
+        np.testing.assert_array_equal(per_point[1]["d"], [0.5, 0.75])
+        np.testing.assert_array_equal(per_point[2]["t"], [0.0])
+        (self.out / "bad.csv").write_text("t,x\n0,1\n1\n")
+        with self.assertRaisesRegex(ValueError, r"bad.csv:3: expected 2 fields, got 1"):
+            tables.read_csv(self.out / "bad.csv")
+        tables.write_markdown(self.out / "a.md", rows)
+        self.assertEqual((self.out / "a.md").read_text().splitlines()[2], "| 0 | 1 | 0.5 |")
+
+    def test_png_size_from_ihdr(self):
+        fig = plt.figure(figsize=(2, 1))
+        fig.savefig(self.out / "f.png", dpi=50)
+        plt.close(fig)
+        self.assertEqual(png.png_size(self.out / "f.png"), (100, 50))
+        (self.out / "not.png").write_bytes(b"GIF89a" + bytes(30))
+        with self.assertRaisesRegex(ValueError, "not.png: not a PNG"):
+            png.png_size(self.out / "not.png")

@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""Accuracy versus time on a column collapse: the scene with `live` as reference and every knob that
+trades accuracy for time (variants.py), error against wall and CPU time as a Pareto plot and a table.
+
+  study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|smoke]
+               [--end T] [--threads N] [--build DIR]
+
+Defaults: the demo's column (workflows/demo/column.json), its weak snow cell and library paths. The
+library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
+by every library run. Runs already finished in OUT/runs/ are kept (delete them to rerun).
+Errors against the reference, at their common output times: front = worst relative runout error
+(rows with a reference runout above 1 cm), stress = mean relative L2 of the in-plane stress field
+(points matched by id, by nearest position when the discretisation differs), deposit = RMS difference
+of the free-surface height at the last output [m].
+Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
+"""
+import argparse
+import json
+import math
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+from plotting import flow, scenes, tables, vtu  # noqa: E402  (after the path set-up)
+from plotting.timing import timed  # noqa: E402
+import variants  # noqa: E402
+
+WORKFLOWS = HERE.parent
+
+
+def build_library(args, build):
+    library = args.out / "lib"
+    dem_sampler = build / "dem_sampler" / "dem_sampler"
+    wall, cpu = timed([dem_sampler, "prepare", args.cell, "--library", library])
+    w, c = timed([dem_sampler, "sample", args.paths, "--library", library, "--threads", args.threads])
+    return library, {"wall_s": wall + w, "cpu_s": cpu + c}
+
+
+def scene_of(name, spec, base, library, args):
+    material = dict(spec.get("material", {}))
+    if "cell_spheres" in spec:
+        cell = json.loads(args.cell.read_text())
+        cell["preparation"]["spheres"] = spec["cell_spheres"]
+        cell_file = args.out / "cells" / f"{name}.json"
+        scenes.save(cell, cell_file)
+        material["cell"] = str(cell_file.resolve())
+    top = {}
+    if "grid_factor" in spec:
+        grid = dict(base["grid"])
+        grid["cell_size"] = base["grid"]["cell_size"] * spec["grid_factor"]
+        grid["cells"] = [math.ceil(n / spec["grid_factor"]) for n in base["grid"]["cells"]]
+        top["grid"] = grid
+    time_keys = {"end": args.end} if args.end else None
+    return scenes.variant(base, spec["law"], library, material, time_keys, top)
+
+
+def run(name, scene, build, args):
+    folder = args.out / "runs" / name
+    if (folder / "study_run.json").exists():
+        return json.loads((folder / "study_run.json").read_text())
+    scene_file = args.out / "scenes" / f"{name}.json"
+    scenes.save(scene, scene_file)
+    wall, cpu = timed([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder, "--threads", args.threads])
+    result = {"wall_s": wall, "cpu_s": cpu}
+    (folder / "study_run.json").write_text(json.dumps(result) + "\n")
+    return result
+
+
+def stress_error(snapshot, reference):
+    if len(snapshot) == len(reference) and (snapshot.fields["id"] == reference.fields["id"]).all():
+        return flow.stress_error(snapshot, reference)
+    return flow.stress_error_nearest(snapshot, reference)
+
+
+def errors(folder, reference_folder):
+    series, ref_series = (tables.read_csv(f / "series.csv") for f in (folder, reference_folder))
+    snaps = {round(s.time, 9): s for s in vtu.read_run(folder)}
+    ref_snaps = {round(s.time, 9): s for s in vtu.read_run(reference_folder)}
+    common = sorted(set(snaps) & set(ref_snaps))[1:]  # the initial state is the same by construction
+    if not common:
+        raise ValueError(f"{folder}: no output time in common with the reference {reference_folder}")
+    final, ref_final = snaps[common[-1]], ref_snaps[common[-1]]
+    # Columns of two reference point spacings across every x either run reaches.
+    width = 2 * ref_final.spacing()
+    x = np.concatenate([final.xy[:, 0], ref_final.xy[:, 0]])
+    bins = np.arange(x.min(), x.max() + 2 * width, width)
+    return {
+        "front_rel_err": flow.front_error(series, ref_series),
+        "stress_rel_l2": float(np.mean([stress_error(snaps[t], ref_snaps[t]) for t in common])),
+        "deposit_rms_m": flow.profile_error(final, ref_final, bins),
+    }
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--scene", type=Path, default=WORKFLOWS / "demo" / "column.json")
+    parser.add_argument("--cell", type=Path, default=WORKFLOWS / "cache_vs_live" / "cell_weak_snow_125.json")
+    parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
+    parser.add_argument("--variants", choices=sorted(variants.SETS), default="full")
+    parser.add_argument("--end", type=float, help="end time [s] instead of the scene's")
+    parser.add_argument("--threads", type=int, default=os.cpu_count())
+    parser.add_argument("--build", type=Path, default=Path(os.environ.get("GRAINBANK_BUILD_DIR", WORKFLOWS.parent / "build")))
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    build = args.build if args.build.is_absolute() else WORKFLOWS.parent / args.build
+    library, library_cost = build_library(args, build)
+    base = scenes.load(args.scene)
+    chosen = variants.SETS[args.variants]
+    costs = {}
+    for name, spec in chosen.items():
+        costs[name] = run(name, scene_of(name, spec, base, library, args), build, args)
+        print(f"{name}: {costs[name]['wall_s']:.1f} s wall, {costs[name]['cpu_s']:.1f} s CPU", flush=True)
+    reference = args.out / "runs" / "live"
+    rows = []
+    for name, spec in chosen.items():
+        summary = json.loads((args.out / "runs" / name / "summary.json").read_text())
+        rows.append({"run": name, "knob": spec["knob"], "value": spec["value"], "law": spec["law"],
+                     "points": summary["points"], "steps": summary["steps"],
+                     "wall_s": costs[name]["wall_s"], "cpu_s": costs[name]["cpu_s"],
+                     **errors(args.out / "runs" / name, reference)})
+    tables.write_csv(args.out / "results.csv", rows)
+    tables.write_markdown(args.out / "results.md", rows)
+    (args.out / "study.json").write_text(json.dumps({"variants": args.variants, "scene": str(args.scene),
+                                                     "library_cost": library_cost, "threads": args.threads,
+                                                     "runs": rows}, indent=2) + "\n")
+    import pareto  # matplotlib only for the figure
+    pareto.plot(rows, args.out / "pareto.png")
+    print((args.out / "results.md").read_text(), end="")
+
+
+if __name__ == "__main__":
+    main()

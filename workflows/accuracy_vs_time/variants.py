@@ -1,0 +1,39 @@
+"""The runs of the accuracy-versus-time study: every knob that trades accuracy for time, one at a time,
+against the `live` reference. Each variant is (knob, value, law, material keys, top-level scene keys)
+for plotting.scenes.variant; `cell_spheres` asks for a cell of that many spheres (prepared live),
+`grid_factor` scales the grid cell size (same domain, same points per cell)."""
+
+LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
+
+
+def lookup(**keys):
+    return {"lookup": {**LOOKUP, **keys}}
+
+
+def hybrid(start="warm_start", **lookup_keys):
+    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": 10}, "enrich": False}
+
+
+# name: {"knob", "value", "law", "material", "cell_spheres", "grid_factor"}
+FULL = {
+    "live": {"knob": "reference", "value": "live", "law": "live"},
+    "q_t_0.2": {"knob": "Q_t", "value": 0.2, "law": "live", "material": {"substepping": {"q_t": 0.2}}},
+    "q_t_0.05": {"knob": "Q_t", "value": 0.05, "law": "live", "material": {"substepping": {"q_t": 0.05}}},
+    "q_n_200": {"knob": "Q_n", "value": 200, "law": "live", "material": {"substepping": {"q_n": 200}}},
+    "q_sigma_0.05": {"knob": "Q_sigma", "value": 0.05, "law": "live", "material": {"substepping": {"q_sigma": 0.05}}},
+    "q_sigma_0.5": {"knob": "Q_sigma", "value": 0.5, "law": "live", "material": {"substepping": {"q_sigma": 0.5}}},
+    "spheres_64": {"knob": "spheres per cell", "value": 64, "law": "live", "cell_spheres": 64},
+    "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
+    "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
+    "hybrid": {"knob": "hybrid (tolerance 1, k 4, warm start)", "value": "", "law": "hybrid", "material": hybrid()},
+    "hybrid_tol_0.3": {"knob": "lookup tolerance", "value": 0.3, "law": "hybrid", "material": hybrid(tolerance=0.3)},
+    "hybrid_tol_3": {"knob": "lookup tolerance", "value": 3.0, "law": "hybrid", "material": hybrid(tolerance=3.0)},
+    "hybrid_k_1": {"knob": "lookup k", "value": 1, "law": "hybrid", "material": hybrid(k=1)},
+    "hybrid_k_8": {"knob": "lookup k", "value": 8, "law": "hybrid", "material": hybrid(k=8)},
+    "hybrid_replay": {"knob": "fallback start", "value": "replay", "law": "hybrid", "material": hybrid(start="replay")},
+    "cache": {"knob": "cache only", "value": "", "law": "cache", "material": lookup()},
+}
+# The CI smoke test: the reference and two variants.
+SMOKE = {name: FULL[name] for name in ("live", "q_sigma_0.5", "hybrid")}
+SETS = {"full": FULL, "smoke": SMOKE, "reduced": {name: FULL[name] for name in
+                                                  ("live", "q_t_0.2", "q_sigma_0.5", "hybrid", "hybrid_tol_3", "cache")}}

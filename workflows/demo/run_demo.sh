@@ -1,0 +1,31 @@
+#!/bin/sh
+# The default demo (README, "The demo"): a small cohesive cell library, a cohesive column collapse
+# against it in `hybrid` mode, PNG figures and a short report.
+# Usage: run_demo.sh [OUT]   (default: ./demo_out)
+# Environment: GRAINBANK_BUILD_DIR (default: build next to workflows/), THREADS (default: all cores),
+#              DEMO_SCENE and DEMO_PATHS (other inputs, e.g. the tiny ones of the tests).
+# A second run reuses OUT/lib: `prepare` finds its template, `sample` finds every path registered and
+# done, and the hybrid run indexes the paths the previous runs added (enrichment).
+set -eu
+here=$(cd "$(dirname "$0")" && pwd)
+. "$here/../plotting/workflow_env.sh"
+out=${1:-demo_out}
+scene=${DEMO_SCENE:-$here/column.json}
+paths=${DEMO_PATHS:-$here/paths.json}
+mkdir -p "$out"
+seconds() { date +%s.%N; }  # timestamps for the report
+start=$(seconds)
+
+echo "== cell library $out/lib"
+"$build/dem_sampler/dem_sampler" prepare "$here/../cache_vs_live/cell_weak_snow_125.json" --library "$out/lib"
+"$build/dem_sampler/dem_sampler" sample "$paths" --library "$out/lib" --threads "$threads" 2> "$out/sample.log"
+library_done=$(seconds)
+
+echo "== column collapse (hybrid) -> $out/run"
+rm -rf "$out/run"
+"$build/mpm_solver/mpm_solver" "$scene" --library "$out/lib" --out "$out/run" --threads "$threads" > /dev/null
+"$build/database/celldb" info "$out/lib" --json > "$out/library.json"
+run_done=$(seconds)
+
+echo "== figures and report -> $out/figures, $out/report.txt"
+"$python" "$here/report.py" "$out" --timestamps "$start" "$library_done" "$run_done"

@@ -1,0 +1,88 @@
+"""The figures of a column-collapse run (demo and the paper's benchmark), after seed Figs. 4 and 5:
+snapshots coloured by velocity norm, by the deviatoric strain rate ε̇_q and by damage D, by the source
+of each point's stress, the front and height over time, the hit rate, and the tracked cells."""
+from pathlib import Path
+
+import matplotlib.colors as colors
+import numpy as np
+
+from . import figures, tables, tracked_cells, vtu
+
+SOURCES = ["analytic", "live", "hit", "miss"]  # StressSource codes 0–3 of the VTU field `source`
+
+
+def snapshot_figures(snapshots, out, panels):
+    shown = vtu.pick_times(snapshots, panels)
+    rate = lambda s: s.fields["strain_rate_q"]  # noqa: E731
+    made = {
+        "velocity.png": [("|v| [m/s]", lambda s: s.speed(), "viridis", None, None)],
+        "strain_rate_damage.png": [
+            ("ε̇_q [1/s] (seed Eq. 5)", rate, "inferno", figures.log_norm(shown, rate), None),
+            ("damage D (seed Eq. 6)", lambda s: s.fields["damage"], "magma", colors.Normalize(0, 1), None)],
+    }
+    if "source" in shown[0].fields:
+        made["source.png"] = [("stress source", lambda s: s.fields["source"],
+                               colors.ListedColormap(["grey", "tab:red", "tab:green", "tab:orange"]),
+                               colors.BoundaryNorm(np.arange(-0.5, 4.5), 4), SOURCES)]
+    for name, rows in made.items():
+        figures.snapshot_grid(shown, rows, out / name)
+    return list(made)
+
+
+def series_figures(series, out):
+    t = series["t"]
+    figures.time_plot(out / "front_height.png",
+                      [(t, series["front"], "front (largest x) [m]", None),
+                       (t, series["max_height"], "height (largest y) [m]", None)],
+                      "t [s]", "position [m]")
+    made = ["front_height.png"]
+    if "hit_rate" in series:
+        rows = slice(1, None)  # row 0 is the initial state, before any lookup
+        points = series["hits"][rows] + series["misses"][rows] + series["live_cells"][rows]
+        figures.time_plot(out / "hit_rate.png",
+                          [(t[rows], series["hit_rate"][rows], "hit rate among lookups (series.csv hit_rate)", None),
+                           (t[rows], series["hits"][rows] / np.maximum(points, 1), "fraction of points answered by a hit",
+                            {"linestyle": "-."}),
+                           (t[rows], series["live_cells"][rows] / np.maximum(points, 1), "fraction of points live",
+                            {"linestyle": "--"})],
+                          "t [s]", "fraction", title="cell library: hits and live DEM points (at each series row)")
+        made.append("hit_rate.png")
+    return made
+
+
+def tracked_figures(run_dir, out):
+    """Damage of the tracked points over time and the bond count of their DEM cells (when live)."""
+    file = Path(run_dir) / "tracked_points.csv"
+    if not file.exists():
+        return []
+    per_point = tables.split_by(tables.read_csv(file), "point")
+    curves = [(p["t"], p["damage"], f"point {pid}", None) for pid, p in per_point.items()]
+    figures.time_plot(out / "tracked_damage.png", curves, "t [s]", "damage D", title="tracked points")
+    made = ["tracked_damage.png"]
+    cells = tracked_cell_counts(run_dir)
+    if cells:
+        figures.time_plot(out / "tracked_bonds.png",
+                          [(t, n, f"point {pid}", {"marker": "o"}) for pid, (t, n) in cells.items()],
+                          "t [s]", "intact bonds N_b", title="DEM cells of the tracked points")
+        made.append("tracked_bonds.png")
+    return made
+
+
+def tracked_cell_counts(run_dir):
+    """{point id → (times, bond counts)} from the cells/*.vtk of a run."""
+    times = {vtu.vtu_index(path): t for t, path in vtu.read_pvd(Path(run_dir) / "points.pvd")}
+    counts = {}
+    for point, files in tracked_cells.tracked_cell_files(run_dir).items():
+        shown = [(times[index], path) for index, path in files if index in times]
+        counts[point] = (np.array([t for t, _ in shown]), np.array([tracked_cells.bond_count(p) for _, p in shown]))
+    return counts
+
+
+def all_figures(run_dir, out, panels=5):
+    """Writes every figure of the run in `run_dir` into `out`; returns their file names."""
+    run_dir, out = Path(run_dir), Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    made = snapshot_figures(vtu.read_run(run_dir), out, panels)
+    made += series_figures(tables.read_csv(run_dir / "series.csv"), out)
+    made += tracked_figures(run_dir, out)
+    return made

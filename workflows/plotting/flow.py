@@ -1,0 +1,54 @@
+"""Measures of a collapsing column computed from the snapshots, and errors against a reference run."""
+import numpy as np
+
+
+def runout(series):
+    """Front position minus its initial value [m], per row of series.csv."""
+    return series["front"] - series["front"][0]
+
+
+def front_error(series, reference, min_runout=0.01):
+    """Worst relative runout error against the reference over their common rows, counting only rows
+    where the reference runout exceeds `min_runout` [m] (before that the ratio is noise over a tiny
+    number); 0 when the reference never gets there."""
+    ref_runout = dict(zip(np.round(reference["t"], 9), runout(reference)))
+    worst = 0.0
+    for t, r in zip(np.round(series["t"], 9), runout(series)):
+        if t in ref_runout and ref_runout[t] > min_runout:
+            worst = max(worst, abs(r - ref_runout[t]) / ref_runout[t])
+    return worst
+
+
+def stress_error(snapshot, reference):
+    """Relative L2 difference of the in-plane stress fields of two snapshots of the same scene (points
+    matched by id): ‖σ − σ_ref‖ / ‖σ_ref‖ over all points and components."""
+    a = snapshot.by_id(snapshot.in_plane_stress())
+    b = reference.by_id(reference.in_plane_stress())
+    norm = np.linalg.norm(b)
+    return float(np.linalg.norm(a - b) / norm) if norm > 0 else float("nan")
+
+
+def stress_error_nearest(snapshot, reference):
+    """As stress_error for two discretisations of the same scene: each point of `snapshot` is compared
+    with the reference point nearest to it."""
+    d = np.hypot(*(snapshot.xy[:, None, k] - reference.xy[None, :, k] for k in (0, 1)))
+    b = reference.in_plane_stress()[d.argmin(axis=1)]
+    norm = np.linalg.norm(b)
+    return float(np.linalg.norm(snapshot.in_plane_stress() - b) / norm) if norm > 0 else float("nan")
+
+
+def deposit_profile(snapshot, bins):
+    """Free-surface height over x: the highest point in each bin of `bins` (edges [m]); 0 where empty."""
+    x, y = snapshot.xy[:, 0], snapshot.xy[:, 1]
+    which = np.digitize(x, bins) - 1
+    height = np.zeros(len(bins) - 1)
+    for k in range(len(height)):
+        inside = which == k
+        if inside.any():
+            height[k] = y[inside].max()
+    return height
+
+
+def profile_error(snapshot, reference, bins):
+    """RMS difference of the deposit profiles over the bins [m]."""
+    return float(np.sqrt(np.mean((deposit_profile(snapshot, bins) - deposit_profile(reference, bins)) ** 2)))
