@@ -4,6 +4,7 @@
 #include <fstream>
 #include <iostream>
 
+#include "cell/overlap_warning.hpp"
 #include "cell_input.hpp"
 #include "common/json_input.hpp"
 #include "path_driver.hpp"
@@ -17,6 +18,10 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+void warn_of_large_overlaps(const dem::DemCell& cell) {
+  if (const auto warning = dem::large_overlap_warning(cell)) std::cerr << "warning: " << *warning << "\n";
 }
 
 void report_preparation(const std::string& stage, long step, const dem::CellMeasures& m) {
@@ -69,6 +74,7 @@ void run_path_command(const RunOptions& options) {
   std::cerr << "cell: " << cell.size() << " spheres, phi = " << initial.solid_fraction
             << ", p = " << dem::pressure_of(initial.stress) << " Pa, bonds = " << initial.bonds << " ("
             << (options.cell_source ? options.cell_source_name : cell_input->packing ? "loaded" : "prepared") << " in " << seconds_since(prepare_start) << " s)\n";
+  warn_of_large_overlaps(cell);
 
   RecordTable table(options.out_file ? static_cast<std::ostream&>(file) : std::cout,
                     options.out_file ? TableStyle::csv : TableStyle::aligned);
@@ -88,6 +94,7 @@ void run_path_command(const RunOptions& options) {
     std::cout << "wrote " << total + 1 << " records to " << options.out_file->string() << "\n";
   }
   std::cerr << "path: " << total << " increments in " << seconds_since(drive_start) << " s\n";
+  warn_of_large_overlaps(cell);
 }
 
 }  // namespace grainbank::app

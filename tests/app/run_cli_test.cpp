@@ -69,6 +69,21 @@ TEST(RunCli, WritesCsvWithHeaderAndFiniteRows) {
   EXPECT_EQ(rows, 1 + 4) << "the initial state and one row per record interval";
 }
 
+TEST(RunCli, WarnsOfLargeOverlapsOnlyWhenKnIsTooSoftForThePressure) {
+  const testing::TempDir dir;
+  const auto path = dir.write("path.json", kPath);
+  std::string squeezed = kCell;  // k_n = 2000 N/m at 400 kPa: overlaps of ~8 % of the radius sum
+  squeezed.replace(squeezed.find("\"pressure\": 1000"), 16, "\"pressure\": 4e5");
+  const auto soft = dir.write("soft.json", squeezed), normal = dir.write("cell.json", kCell);
+  const Outcome warned = run_dem_sampler(dir, "run '" + soft.string() + "' --path '" + path.string() + "'");
+  ASSERT_EQ(warned.exit_code, 0) << warned.err;
+  EXPECT_NE(warned.err.find("warning: large overlaps"), std::string::npos) << warned.err;
+  EXPECT_NE(warned.err.find("raise contact.k_n"), std::string::npos) << warned.err;
+  const Outcome quiet = run_dem_sampler(dir, "run '" + normal.string() + "' --path '" + path.string() + "'");
+  ASSERT_EQ(quiet.exit_code, 0) << quiet.err;
+  EXPECT_EQ(quiet.err.find("large overlaps"), std::string::npos) << quiet.err;
+}
+
 TEST(RunCli, InputErrorIsOneLineAndExitCodeOne) {
   const testing::TempDir dir;
   std::string bad = kCell;
