@@ -81,7 +81,14 @@ Grid read_grid(const JsonNode& node) {
   const double h = node.number("cell_size", Range::positive());
   const JsonNode cells = node.at("cells", "an array [n_x, n_y] of cell counts");
   if (cells.array_size("an array [n_x, n_y]") != 2) cells.fail_expected("an array [n_x, n_y]");
-  return Grid(origin, h, static_cast<int>(cells.at(0).integer(1, 100000)), static_cast<int>(cells.at(1).integer(1, 100000)));
+  const std::int64_t nx = cells.at(0).integer(1, 100000), ny = cells.at(1).integer(1, 100000);
+  // Each node holds a few hundred bytes of grid and per-thread transfer buffers: beyond this the run
+  // cannot fit in memory, and a scene this size is far past what one machine can step.
+  constexpr std::int64_t kMaxCells = 20'000'000;
+  if (nx * ny > kMaxCells)
+    cells.fail_expected("at most " + std::to_string(kMaxCells) + " cells in all (here n_x * n_y = " +
+                        std::to_string(nx * ny) + "; use a coarser cell_size or a smaller domain)");
+  return Grid(origin, h, static_cast<int>(nx), static_cast<int>(ny));
 }
 
 dem::DemCell live_template(const JsonNode& node, const std::filesystem::path& folder) {

@@ -79,6 +79,9 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
   expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
                "bad.json: /materials/0/law: expected \"elastic\", \"drucker_prager\", \"live\", \"cache\" or \"hybrid\", got a string "
                "(\"plastic\")");
+  expect_error("\"cells\": [10, 10]", "\"cells\": [100000, 100000]",
+               "bad.json: /grid/cells: expected at most 20000000 cells in all (here n_x * n_y = 10000000000; use a "
+               "coarser cell_size or a smaller domain), got an array of 2 entries");
 }
 
 TEST(Scene, CommandLineRunWritesAllOutputs) {
