@@ -143,6 +143,31 @@ TEST(LookupIndex, KAndToleranceBehaviour) {
   EXPECT_EQ(index.stats().queries, 0u);
 }
 
+// A state far outside the library (hard case of issue 8): a miss at a large, finite distance whose
+// answer is a convex blend of stored stresses (1/d² weights), never an extrapolation or NaN.
+TEST(LookupIndex, AStateFarOutsideTheLibraryMissesWithAFiniteStoredAnswer) {
+  LookupIndex index(db::KeyScales{});
+  const std::vector<db::Record> records = random_records(200, 7);
+  index.insert(-1, 0, records);
+  LookupState far;
+  far.F = dem::Mat3::Identity();
+  far.F(0, 0) = 3.0;   // 300 % stretch, 70 % compression: the library holds a few percent
+  far.F(1, 1) = 0.3;
+  far.L(0, 1) = 1e4;   // and a rate 10⁴ times the library's
+  far.damage = 1.0;
+  const LookupAnswer a = index.query(far, {8, 0.5});
+  EXPECT_FALSE(a.hit);
+  EXPECT_TRUE(std::isfinite(a.distance));
+  EXPECT_GT(a.distance, 1e3);
+  EXPECT_TRUE(a.stress.allFinite());
+  EXPECT_TRUE(std::isfinite(a.estimated_error));
+  double largest = 0;
+  for (const db::Record& r : records) largest = std::max(largest, db::from_stress6(r.stress).norm());
+  EXPECT_LE(a.stress.norm(), largest * (1 + 1e-12));  // within the stored range (rotation keeps the norm)
+  EXPECT_GE(a.damage, 0.0);
+  EXPECT_LE(a.damage, 1.0);
+}
+
 TEST(LookupIndex, MatchesBruteForceOnRandomData) {
   LookupIndex index(db::KeyScales{0.02, 0.5, 0.1});
   const std::vector<db::Record> records = random_records(6000, 11);
