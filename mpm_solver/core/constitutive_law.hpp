@@ -9,6 +9,10 @@
 #include "coupling_status.hpp"
 #include "types.hpp"
 
+namespace grainbank::dem {
+class DemCell;
+}
+
 namespace grainbank::mpm {
 
 class ConstitutiveLaw {
@@ -48,6 +52,8 @@ class ConstitutiveLaw {
   // and of one point.
   virtual CouplingCounters counters() const { return {}; }
   virtual CouplingCounters point_counters(std::size_t /*slot*/) const { return {}; }
+  // The DEM cell that answers `slot` now, or null (analytic laws; library answers of cache/hybrid).
+  virtual const dem::DemCell* live_cell(std::size_t /*slot*/) const { return nullptr; }
   // Ends the run: writes what the law still holds (e.g. live responses for the library). Called once,
   // after the last step; throws with context when that fails.
   virtual void finish() {}

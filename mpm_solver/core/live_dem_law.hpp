@@ -28,6 +28,7 @@ class LiveDemLaw : public ConstitutiveLaw {
   StressSource source(std::size_t) const override { return StressSource::live; }
 
   const dem::DemCell& cell(std::size_t slot) const { return cells_[slot]; }
+  const dem::DemCell* live_cell(std::size_t slot) const override { return &cells_[slot]; }
   // Replaces the cell of `slot` by one continuing from `state` (restart files).
   void restore_cell(std::size_t slot, dem::CellState state);
 

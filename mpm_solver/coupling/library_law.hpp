@@ -63,8 +63,7 @@ class LibraryLaw : public ConstitutiveLaw {
   // Marks the enriched paths of the live points done. Idempotent.
   void finish() override;
 
-  // The live cell of a point, or null while the library answers it.
-  const dem::DemCell* live_cell(std::size_t slot) const { return points_[slot].cell.get(); }
+  const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
   // The point's F as the law composed it from its increments.
   const Mat2& deformation_gradient(std::size_t slot) const { return points_[slot].F; }
   const LibraryLink& link() const { return *link_; }

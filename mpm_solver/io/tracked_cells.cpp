@@ -5,7 +5,6 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "core/live_dem_law.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -37,9 +36,7 @@ std::vector<dem::Vec3> wrapped_positions(const dem::CellState& state) {
 const dem::DemCell* cell_of_point(const Solver& solver, std::uint32_t id) {
   for (const MaterialPoint& mp : solver.points()) {
     if (mp.id != id) continue;
-    // Only the live law keeps a cell per point so far; other DEM-backed laws add their case here.
-    const auto* live = dynamic_cast<const LiveDemLaw*>(&solver.law(mp.law));
-    return live ? &live->cell(mp.slot) : nullptr;
+    return solver.law(mp.law).live_cell(mp.slot);
   }
   throw std::invalid_argument("tracked cells: no material point with id " + std::to_string(id));
 }

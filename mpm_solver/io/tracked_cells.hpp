@@ -5,8 +5,9 @@
 //   cells/point_<id>_<NNNNNN>.vtk  legacy VTK polydata for ParaView: sphere centres as vertices with
 //                                  a `radius` field (Glyph → Sphere, scale by radius) and intact bonds
 //                                  as lines (bond ends outside the cell are periodic images, radius 0).
-// NNNNNN is the index of the output step, as in points_NNNNNN.vtu. Points whose law has no DEM cell
-// (elastic, Drucker–Prager) write nothing.
+// NNNNNN is the index of the output step, as in points_NNNNNN.vtu. Points without a DEM cell at that
+// step write nothing: analytic laws, and cache/hybrid points the library answers (a hybrid point
+// writes while it is live).
 #pragma once
 #include <cstdint>
 #include <filesystem>
@@ -17,7 +18,7 @@
 
 namespace grainbank::mpm::io {
 
-// The DEM cell behind material point `id`, or nullptr when its law has none. Throws
+// The DEM cell behind material point `id` now, or nullptr when it has none. Throws
 // std::invalid_argument when the solver has no point with that id.
 const dem::DemCell* cell_of_point(const Solver& solver, std::uint32_t id);
 

@@ -7,6 +7,7 @@
 
 #include "coupling_test_util.hpp"
 #include "io/restart.hpp"
+#include "io/tracked_cells.hpp"
 
 namespace grainbank::mpm {
 namespace {
@@ -47,6 +48,13 @@ TEST(HybridLaw, EmptyLibraryEqualsLiveToRoundOff) {
   EXPECT_EQ(c.hits, 0u);
   EXPECT_EQ(c.warm_start_increments, 0u);  // started from the template itself: nothing to drive
   EXPECT_EQ(c.live_updates, 16u * 6);
+  // Tracked points of a hybrid run write the cell a live point would own.
+  const std::uint32_t tracked = reference.points()[3].id;
+  const dem::DemCell *live_cell = io::cell_of_point(reference, tracked),
+                    *hybrid_cell = io::cell_of_point(hybrid, tracked);
+  ASSERT_NE(hybrid_cell, nullptr);
+  EXPECT_EQ(hybrid_cell->cell_matrix(), live_cell->cell_matrix());
+  EXPECT_EQ(hybrid_cell->positions(), live_cell->positions());
 }
 
 TEST(HybridLaw, RestartContinuesExactlyLikeTheUninterruptedRun) {
