@@ -55,6 +55,17 @@ TEST(CacheLaw, ReproducesTheLiveStressOfAPathTheLibraryHolds) {
   EXPECT_EQ(c.went_live, 0u);
 }
 
+TEST(CacheLaw, AnEmptyLibraryIsRefusedWithTheRemedy) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());  // a template, no path
+  try {
+    library_law(dir, id, coupling_settings(Fallback::none, false));
+    FAIL() << "expected a refusal";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("use hybrid or sample paths"), std::string::npos) << e.what();
+  }
+}
+
 TEST(CacheLaw, AMissIsAnsweredByTheNearestStateAndCounted) {
   const auto dir = fresh_library_dir();
   const std::int64_t id = create_library(dir, small_snow_cell());
