@@ -15,7 +15,9 @@ class DemoTest(WorkflowTest):
         self.assertIn("template 1 (prepared)", first)
         self.assertIn("sampled 2 path(s)", first)
         self.assert_run(self.out / "run", end_time=0.003, points=4)
-        for name in FIGURES:
+        # Tracked points write their DEM cell while live; their bond counts then get a figure too.
+        figures = FIGURES + (["tracked_bonds.png"] if any((self.out / "run" / "cells").glob("*.vtk")) else [])
+        for name in figures:
             self.assert_png(self.out / "figures" / name)
         report = self.assert_json_fields(self.out / "report.json", [
             "points", "steps", "library", "hit_rate_of_lookups", "went_live", "runout_m", "wall_time_s", "figures"])
@@ -23,7 +25,7 @@ class DemoTest(WorkflowTest):
         self.assertEqual(report["steps"], 30)  # 0.003 s at the scene's max_time_step 1e-4
         self.assertGreaterEqual(report["library"]["paths"], 2)
         self.assertTrue(0 <= report["hit_rate_of_lookups"] <= 1)
-        self.assertEqual(sorted(report["figures"]), sorted(FIGURES))
+        self.assertEqual(sorted(report["figures"]), sorted(figures))
         self.assertIn("seed Eq. 5", (self.out / "report.txt").read_text())
 
         second = self.run_demo()
