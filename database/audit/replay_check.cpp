@@ -5,6 +5,7 @@
 
 #include "path_driver.hpp"
 #include "path_plan.hpp"
+#include "stored_path.hpp"
 
 namespace grainbank::audit {
 namespace {
@@ -12,20 +13,6 @@ namespace {
 // Thrown from the record callback once the last record of a replay is reached: the rest of the path
 // is not needed.
 struct Reached {};
-
-// The path's plan; none when its spec is not a sampler path. Throws for a spec that is not valid.
-std::optional<sampler::PathPlan> stored_plan(db::Library& library, const db::PathRow& row) {
-  const std::string where = library.catalogue().file().string() + ": path " + std::to_string(row.id) + " spec";
-  nlohmann::json spec;
-  try {
-    spec = nlohmann::json::parse(row.spec);
-  } catch (const nlohmann::json::exception& e) {
-    throw db::StoreError(library.catalogue().file(),
-                         "path " + std::to_string(row.id) + ": spec is not JSON: " + e.what());
-  }
-  if (!spec.is_object() || !spec.contains("segments")) return std::nullopt;
-  return sampler::plan_from_json(common::JsonNode(spec, where));
-}
 
 // The last snapshot strictly before `record` (its state is the cell right after that record), 0 if none.
 std::int64_t start_of(const std::vector<std::int64_t>& snapshots, std::int64_t record) {
@@ -85,7 +72,7 @@ std::vector<ReplayCheck> replay_records(db::Library& library, const std::vector<
     };
     std::optional<sampler::PathPlan> plan;
     try {
-      plan = stored_plan(library, row);
+      plan = sampler::stored_plan(library, row);
     } catch (const std::exception& e) {
       fail_all(e.what(), true);
       continue;

@@ -1,6 +1,7 @@
 #include "library_writer.hpp"
 
 #include "store/path_queue.hpp"
+#include "stored_path.hpp"
 
 namespace grainbank::sampler {
 
@@ -12,16 +13,13 @@ db::KeyScales LibraryWriter::key_scales() {
 PathWork LibraryWriter::start(std::int64_t path_id) {
   std::lock_guard lock(mutex_);
   const db::PathRow row = library_.catalogue().path(path_id);
-  nlohmann::json spec;
-  try {
-    spec = nlohmann::json::parse(row.spec);
-  } catch (const nlohmann::json::exception& e) {
-    throw db::StoreError(library_.catalogue().file(), "path " + std::to_string(path_id) + ": spec is not JSON: " + e.what());
-  }
+  std::optional<PathPlan> plan = stored_plan(library_, row);
+  if (!plan)
+    throw db::StoreError(library_.catalogue().file(), "path " + std::to_string(path_id) +
+                                                          ": not a sampler path (a live cell of an MPM run): nothing to run");
   PathWork work;
   work.path_id = path_id;
-  work.plan = plan_from_json(common::JsonNode(spec, library_.catalogue().file().string() + ": path " +
-                                                        std::to_string(path_id) + " spec"));
+  work.plan = std::move(*plan);
   auto& cached = templates_[row.template_id];
   if (!cached) cached = std::make_shared<const db::StoredCell>(library_.template_cell(row.template_id));
   work.start = cached;

@@ -66,6 +66,13 @@ inline PreparationSpec small_spec(std::size_t spheres, std::uint64_t seed) {
 
 inline double rel_diff(const Mat3& a, const Mat3& b) { return (a - b).norm() / std::max(a.norm(), b.norm()); }
 
+// Simple shear x += γ y.
+inline Mat3 simple_shear(double gamma) {
+  Mat3 f = Mat3::Identity();
+  f(0, 1) = gamma;
+  return f;
+}
+
 inline Mat3 rotation_z(double angle) { return Eigen::AngleAxisd(angle, Vec3::UnitZ()).toRotationMatrix(); }
 
 // Exact equality of two cell states, array by array (bit-identical continuation).

@@ -13,12 +13,6 @@
 namespace grainbank::dem::test {
 namespace {
 
-Mat3 simple_shear(double gamma) {
-  Mat3 f = Mat3::Identity();
-  f(0, 1) = gamma;
-  return f;
-}
-
 // The same spheres rebuilt from scratch: its Verlet list is built anew, so its contact count is
 // the true one, whatever history the driven cell's list carries.
 std::size_t contacts_from_scratch(const DemCell& c) {

@@ -212,8 +212,7 @@ TEST(Objectivity, RigidRotationOfLoadedCellRotatesItsStress) {
   DemCell loaded = prepare_cell(mat, small_spec(125, 3));
   Substepping q;
   const double shear_rate = 2, duration = 5e-5;
-  Mat3 shear = Mat3::Identity();
-  shear(0, 1) = shear_rate * duration;
+  const Mat3 shear = simple_shear(shear_rate * duration);
   for (int k = 0; k < 300; ++k) loaded.advance(shear, duration, q);  // γ = 0.03
   const double omega = 20;  // rad/s about z
   const double angle_inc = omega * duration;

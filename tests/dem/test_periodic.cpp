@@ -92,8 +92,7 @@ TEST(SkewedCell, FlippedCellMatchesUnflippedRepresentation) {
   const Mat3 h0 = cell.cell_matrix();
   Substepping q;
   const double rate = 50, duration = 1e-4;
-  Mat3 inc = Mat3::Identity();
-  inc(0, 1) = rate * duration;
+  const Mat3 inc = simple_shear(rate * duration);
   for (int k = 0; k < 140; ++k) cell.advance(inc, duration, q);  // γ = 0.7
   ASSERT_GT(cell.flips(), 0);
   Mat3 f_expected = Mat3::Identity();
@@ -118,16 +117,14 @@ TEST(SkewedCell, UnboundedSimpleShearKeepsCellReduced) {
   DemCell cell = prepare_cell(mat, small_spec(64, 13));
   Substepping q;
   const double rate = 100, duration = 1e-4;
-  Mat3 inc = Mat3::Identity();
-  inc(0, 1) = rate * duration;
+  const Mat3 inc = simple_shear(rate * duration);
   const int increments = 250;
   for (int k = 0; k < increments; ++k) {
     ASSERT_NO_THROW(cell.advance(inc, duration, q)) << "increment " << k;
     ASSERT_FALSE(needs_reduction(cell.cell_matrix())) << "increment " << k;
   }
   EXPECT_GE(cell.flips(), 2);
-  Mat3 f = Mat3::Identity();
-  f(0, 1) = rate * duration * increments;
+  const Mat3 f = simple_shear(rate * duration * increments);
   EXPECT_LT((cell.deformation_gradient() - f).cwiseAbs().maxCoeff(), 1e-11);
   EXPECT_NEAR(cell.volume(), cell_volume(cell.state().h_reference), 1e-12 * cell.volume()) << "simple shear is isochoric";
   const DemCell fresh = in_basis(cell, cell.cell_matrix(), cell.skin());

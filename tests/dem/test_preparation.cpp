@@ -150,8 +150,7 @@ TEST(ShearStress, SimpleShearOfPreparedCellGivesPositiveShearStress) {
     DemCell cell = prepared;
     Substepping q;
     const double rate = 2, duration = 1e-4;  // inertial number ~ 1e-3: quasi-static
-    Mat3 inc = Mat3::Identity();
-    inc(0, 1) = sense * rate * duration;
+    const Mat3 inc = simple_shear(sense * rate * duration);
     IncrementResult res;
     for (int k = 0; k < 150; ++k) res = cell.advance(inc, duration, q);  // γ = 0.03
     SCOPED_TRACE(sense);
