@@ -159,6 +159,10 @@ JsonNode JsonNode::at(std::string_view key, std::string_view expected) const {
 }
 
 void JsonNode::allow_only(std::initializer_list<std::string_view> allowed) const {
+  allow_only(std::span<const std::string_view>(allowed.begin(), allowed.size()));
+}
+
+void JsonNode::allow_only(std::span<const std::string_view> allowed) const {
   require_object();
   for (const auto& item : value_->items()) {
     bool known = false;

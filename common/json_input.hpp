@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <span>
 #include <string_view>
 
 namespace grainbank::common {
@@ -60,6 +61,7 @@ class JsonNode {
   bool has(std::string_view key) const;
   // Rejects any key not in `allowed`, listing the allowed ones.
   void allow_only(std::initializer_list<std::string_view> allowed) const;
+  void allow_only(std::span<const std::string_view> allowed) const;
 
   // Arrays.
   std::size_t array_size(std::string_view expected = "an array") const;

@@ -1,4 +1,5 @@
-// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`) or the benchmark (`mpm_solver bench`).
+// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`), the benchmark (`mpm_solver bench`)
+// or the audit of a run against live cells (`mpm_solver audit RUN`).
 // Every error is one line on stderr starting with "mpm_solver: " and the exit code is 1.
 #include <omp.h>
 
@@ -6,8 +7,10 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <iostream>
 #include <string>
 
+#include "audit_command.hpp"
 #include "bench_command.hpp"
 #include "common/stop_signals.hpp"
 #include "run_command.hpp"
@@ -32,10 +35,24 @@ int bench_main(int argc, char** argv) {
   return 0;
 }
 
+int audit_main(int argc, char** argv) {
+  CLI::App cli("mpm_solver audit: re-runs the audit trail of a run (scene key \"audit\": {\"points\": N}) with live "
+               "DEM cells and reports the stress error of its cached point-steps");
+  AuditCommandOptions o;
+  int threads = 0;
+  cli.add_option("run", o.run, "output folder of the run (its --out)")->required();
+  cli.add_option("--threads", threads, "OpenMP threads (default: all)")->check(CLI::PositiveNumber);
+  cli.add_flag("--json", o.json, "print the summary as JSON");
+  CLI11_PARSE(cli, argc, argv);
+  if (threads > 0) omp_set_num_threads(threads);
+  run_audit_command(o, std::cout);
+  return 0;
+}
+
 int run_main(int argc, char** argv) {
   CLI::App cli("mpm_solver: 2D plane-strain MPM with analytic and live DEM laws\n"
                "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--out DIR] [--restart FILE] [--threads N] "
-               "[--json] | mpm_solver bench --help");
+               "[--json] | mpm_solver bench --help | mpm_solver audit --help");
   RunOptions o;
   int threads = 0;
   bool json = false;
@@ -78,6 +95,7 @@ int run_main(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     if (argc > 1 && std::string(argv[1]) == "bench") return bench_main(argc - 1, argv + 1);
+    if (argc > 1 && std::string(argv[1]) == "audit") return audit_main(argc - 1, argv + 1);
     return run_main(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mpm_solver: %s\n", e.what());

@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 
+#include "io/audit_trail.hpp"
 #include "io/coupling_report.hpp"
 #include "io/restart.hpp"
 #include "io/scene_input.hpp"
@@ -40,20 +41,25 @@ nlohmann::json phases_json(const PhaseTimes& p) {
           {"stress", p.stress},             {"sort", p.sort}};
 }
 
-// The scene of the run: the file itself, or with --law/--library its rewritten JSON, kept in the
-// output folder under the scene's own name (so that loader errors name the same file and key).
-io::Scene load_scene(const RunOptions& o) {
-  if (!o.overrides.any()) return io::load_scene(o.scene);
+// The scene file of the run: the file itself, or with --law/--library its rewritten JSON, kept in
+// the output folder under the scene's own name (so that loader errors name the same file and key).
+std::filesystem::path scene_of_run(const RunOptions& o) {
+  if (!o.overrides.any()) return o.scene;
   const nlohmann::json doc =
       apply_overrides(common::load_json_file(o.scene), o.scene.parent_path(), o.overrides);
   const std::filesystem::path rewritten = o.out / "scene" / o.scene.filename();
   std::filesystem::create_directories(rewritten.parent_path());
   std::ofstream(rewritten) << doc.dump(2) << '\n';
+  return rewritten;
+}
+
+io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file) {
+  if (file == o.scene) return io::load_scene(file);
   try {
-    return io::load_scene(rewritten);
+    return io::load_scene(file);
   } catch (const common::InputError& e) {
     throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by --law/--library: " +
-                             rewritten.string() + ")");
+                             file.string() + ")");
   }
 }
 
@@ -62,9 +68,13 @@ io::Scene load_scene(const RunOptions& o) {
 nlohmann::json run_scene(const RunOptions& options) {
   const Clock::time_point start = Clock::now();
   std::filesystem::create_directories(options.out);
-  io::Scene scene = load_scene(options);
+  const std::filesystem::path scene_file = scene_of_run(options);
+  io::Scene scene = load_scene(options, scene_file);
   Solver& solver = *scene.solver;
   if (!options.restart.empty()) io::read_restart(options.restart, solver);
+  std::optional<io::AuditTrailRecorder> audit_trail;
+  if (!scene.audited_points.empty())
+    audit_trail.emplace(solver, scene.audited_points, std::filesystem::absolute(scene_file).string());
   const double setup_time = seconds_since(start);
 
   io::PvdCollection pvd(options.out / "points.pvd");
@@ -102,6 +112,7 @@ nlohmann::json run_scene(const RunOptions& options) {
     const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
     const double dt = std::min(solver.stable_time_step(), horizon - solver.time());
     solver.step(dt);
+    if (audit_trail) audit_trail->record(solver, dt);
     dt_min = std::min(dt_min, dt), dt_max = std::max(dt_max, dt);
     if (rows.due(solver.time())) record(dt), ++rows.next;
     if (outputs.due(solver.time())) snapshot(), ++outputs.next;
@@ -118,6 +129,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12);
   const std::filesystem::path restart = options.out / "restart.h5";
   io::write_restart(restart, solver);
+  if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
 
   const double updates = static_cast<double>(solver.steps()) * static_cast<double>(solver.points().size());
   nlohmann::json summary = {
@@ -135,6 +147,7 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0},
       {"interrupted", interrupted},
       {"restart", restart.string()}};
+  if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
   // Closes the run's enriched paths and reports hits, misses and skipped point-steps per law.
   summary["coupling"] = io::finish_coupling(solver);
   std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';

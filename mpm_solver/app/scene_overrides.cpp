@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "common/json_input.hpp"
+#include "io/scene_input.hpp"
 
 namespace grainbank::mpm::app {
 
@@ -27,6 +28,14 @@ void make_absolute(nlohmann::json& material, const char* key, const std::filesys
     *it = std::filesystem::absolute(folder / it->get<std::string>()).lexically_normal().string();
 }
 
+// Keys of the material's old law that the new one does not take (a `lookup` block on a live
+// material) would be refused by the loader.
+void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
+  const auto keys = io::dem_material_keys(law);
+  for (auto it = material.begin(); it != material.end();)
+    it = std::find(keys.begin(), keys.end(), it.key()) == keys.end() ? material.erase(it) : std::next(it);
+}
+
 }  // namespace
 
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
@@ -45,7 +54,10 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
       ++rewritten;
       make_absolute(m, "cell", scene_folder);
       make_absolute(m, "library", scene_folder);
-      if (overrides.law) m["law"] = *overrides.law;
+      if (overrides.law) {
+        m["law"] = *overrides.law;
+        drop_keys_not_of(m, *overrides.law);
+      }
       if (overrides.library) {
         m.erase("cell");
         m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();

@@ -18,7 +18,8 @@ struct SceneOverrides {
   bool any() const { return law || library; }
 };
 
-// Returns `scene` with, in every DEM-backed material, "law" replaced by overrides.law and
+// Returns `scene` with, in every DEM-backed material, "law" replaced by overrides.law (keys the new
+// law does not take, such as a hybrid's "lookup" and "fallback" under --law live, are dropped) and
 // "library" set to overrides.library (absolute; a "cell" entry is removed, since a library and a
 // cell file are alternatives; the material's "template" id is kept). The material paths "cell" and
 // "library" are made absolute against `scene_folder`, so the result can be read from anywhere.

@@ -11,6 +11,7 @@
 #include "core/drucker_prager_law.hpp"
 #include "core/elastic_law.hpp"
 #include "core/live_dem_law.hpp"
+#include "audit_trail.hpp"
 #include "coupling/library_law.hpp"
 #include "core/seeding.hpp"
 #include "store/error.hpp"
@@ -124,11 +125,7 @@ LiveDemSettings read_live_settings(const JsonNode& node) {
 // the library must have been built for that cell's material.
 std::unique_ptr<ConstitutiveLaw> read_library_law(const JsonNode& node, const std::filesystem::path& folder,
                                                   const DemEffects& effects, bool hybrid) {
-  if (hybrid)
-    node.allow_only({"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h", "fallback", "enrich",
-                     "snapshot_interval"});
-  else
-    node.allow_only({"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"});
+  node.allow_only(dem_material_keys(hybrid ? "hybrid" : "cache"));
   LibraryLawSettings s;
   s.live = read_live_settings(node);
   std::optional<db::KeyScales> scales;
@@ -195,7 +192,7 @@ std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::files
     return at_node(node, [&] { return std::make_unique<DruckerPragerLaw>(node.number("density", Range::positive()), p); });
   }
   if (law == "live") {
-    node.allow_only({"name", "law", "cell", "library", "template", "substepping", "q_h"});
+    node.allow_only(dem_material_keys("live"));
     const LiveDemSettings s = read_live_settings(node);
     const dem::DemCell cell = live_template(node, folder);
     require_effects(node, cell.material(), effects, node.has("cell") ? "the cell" : "the library");
@@ -260,12 +257,24 @@ Gravity read_gravity(const JsonNode& node) {
 
 }  // namespace
 
+std::span<const std::string_view> dem_material_keys(std::string_view law) {
+  static constexpr std::string_view live[] = {"name", "law", "cell", "library", "template", "substepping", "q_h"};
+  static constexpr std::string_view cache[] = {"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"};
+  static constexpr std::string_view hybrid[] = {"name",        "law", "library", "template", "cell",
+                                                "lookup",      "substepping", "q_h", "fallback", "enrich",
+                                                "snapshot_interval"};
+  if (law == "live") return live;
+  if (law == "cache") return cache;
+  if (law == "hybrid") return hybrid;
+  return {};
+}
+
 Scene load_scene(const std::filesystem::path& file) {
   const nlohmann::json doc = common::load_json_file(file);
   const JsonNode root(doc, file.filename().string());
   root.require_object();
   root.allow_only({"grid", "time", "integration", "effects", "gravity", "materials", "regions", "obstacles",
-                   "tracked_points"});
+                   "tracked_points", "audit"});
   const std::filesystem::path folder = file.parent_path();
 
   Scene scene;
@@ -335,6 +344,12 @@ Scene load_scene(const std::filesystem::path& file) {
       });
       scene.tracked_points.push_back(nearest->id);
     }
+  if (const auto audit = root.find("audit")) {
+    audit->allow_only({"points"});
+    const JsonNode points = audit->at("points", "the number of points whose history the run records (integer >= 1)");
+    const auto count = static_cast<std::size_t>(points.integer(1));
+    scene.audited_points = at_node(points, [&] { return spread_audit_points(*scene.solver, count); });
+  }
   return scene;
 }
 

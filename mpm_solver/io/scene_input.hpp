@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/solver.hpp"
@@ -19,7 +21,12 @@ struct Scene {
   double series_interval = 0;  // rows of the CSV time series and of the tracked points
   std::vector<std::string> material_names;  // by law index
   std::vector<std::uint32_t> tracked_points;  // point ids
+  std::vector<std::uint32_t> audited_points;  // point ids whose history the run records (audit_trail.hpp)
 };
+
+// The keys a material of the DEM-backed law `law` ("live", "cache" or "hybrid") accepts; empty for
+// any other name.
+std::span<const std::string_view> dem_material_keys(std::string_view law);
 
 // Reads and builds the scene (live cells are prepared or loaded here). Paths inside the scene are
 // relative to its folder.

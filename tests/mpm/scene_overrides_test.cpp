@@ -44,6 +44,21 @@ TEST(SceneOverrides, LawReplacesTheLawOfDemBackedMaterialsOnly) {
   EXPECT_EQ(out["materials"][2]["template"], 2);
 }
 
+TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
+  nlohmann::json scene = kScene;
+  scene["materials"][2]["lookup"] = {{"k", 4}};
+  scene["materials"][2]["fallback"] = {{"return_after", 5}};
+  scene["materials"][2]["enrich"] = true;
+  const nlohmann::json live = apply_overrides(scene, "/scenes", {.law = "live", .library = std::nullopt});
+  EXPECT_EQ(live["materials"][2], nlohmann::json::parse(R"({"name": "firn", "law": "live", "library": "/scenes/lib",
+                                                            "template": 2})"));
+  // cache keeps its lookup and drops what only hybrid takes.
+  const nlohmann::json cache = apply_overrides(scene, "/scenes", {.law = "cache", .library = std::nullopt});
+  EXPECT_EQ(cache["materials"][2]["lookup"], scene["materials"][2]["lookup"]);
+  EXPECT_FALSE(cache["materials"][2].contains("fallback"));
+  EXPECT_FALSE(cache["materials"][2].contains("enrich"));
+}
+
 TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
   const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "/data/LIB"});
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);

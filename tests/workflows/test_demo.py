@@ -3,7 +3,7 @@ figures and report, then the second run reuses the library."""
 from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
 
 FIGURES = ["velocity.png", "strain_rate_damage.png", "source.png", "front_height.png", "hit_rate.png",
-           "tracked_damage.png"]
+           "tracked_damage.png", "run_audit_error_vs_time.png", "run_audit_histogram.png"]
 
 
 class DemoTest(WorkflowTest):
@@ -27,6 +27,13 @@ class DemoTest(WorkflowTest):
         self.assertTrue(0 <= report["hit_rate_of_lookups"] <= 1)
         self.assertEqual(sorted(report["figures"]), sorted(figures))
         self.assertIn("seed Eq. 5", (self.out / "report.txt").read_text())
+        # The audit re-ran the scene's 2 audited points live at each of the 30 steps.
+        audit = self.assert_json_fields(self.out / "run" / "audit" / "run_audit.json",
+                                        ["kind", "points", "steps_compared", "by_source", "cached", "all"])
+        self.assertEqual(audit["steps_compared"], 2 * 30)
+        self.assertEqual(report["audit"]["steps_compared"], 60)
+        sources = audit["by_source"]
+        self.assertEqual(sum(sources[s]["count"] for s in ("hit", "miss", "live")), 60)
 
         second = self.run_demo()
         self.assertIn("template 1 (already in the library)", second)

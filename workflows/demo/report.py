@@ -1,8 +1,8 @@
 #!/usr/bin/python3
-"""Figures and the text report of the demo (run_demo.sh): report.py OUT [--timestamps START LIB RUN].
+"""Figures and the text report of the demo (run_demo.sh): report.py OUT [--timestamps START LIB RUN AUDIT].
 
-Reads OUT/run (the mpm_solver output), OUT/library.json (celldb info --json) and writes OUT/figures/*.png,
-OUT/report.txt and OUT/report.json.
+Reads OUT/run (the mpm_solver output and its audit, run/audit/run_audit.json), OUT/library.json (celldb
+info --json) and writes OUT/figures/*.png, OUT/report.txt and OUT/report.json.
 """
 import argparse
 import json
@@ -43,11 +43,25 @@ def summarise(out, timestamps):
         "height_m": {"initial": float(series["max_height"][0]), "final": float(series["max_height"][-1])},
         "max_velocity_m_s": float(series["max_velocity"].max()),
     }
+    audit = run / "audit" / "run_audit.json"
+    if audit.exists():
+        a = json.loads(audit.read_text())
+        report["audit"] = {"points": len(a["points"]), "steps_compared": a["steps_compared"],
+                           "cached": a["cached"], "live": a["by_source"]["live"]}
     if timestamps:
-        start, library_done, run_done = timestamps
+        start, library_done, run_done, audit_done = timestamps
         report["wall_time_s"].update({"library": library_done - start, "run_total": run_done - library_done,
-                                      "figures": time.time() - run_done})
+                                      "audit": audit_done - run_done, "figures": time.time() - audit_done})
     return report
+
+
+def audit_lines(audit):
+    if not audit:
+        return []
+    c, live = audit["cached"], audit["live"]
+    return [f"  audit (mpm_solver audit run): {audit['points']} points re-run by live cells; relative stress error "
+            f"of the {c['count']} cached point-steps: median {c['median']:.3g}, p95 {c['p95']:.3g}, max {c['max']:.3g}; "
+            f"of the {live['count']} live point-steps (warm-started cells): median {live['median']:.3g}"]
 
 
 def text(report, figures):
@@ -64,6 +78,7 @@ def text(report, figures):
         f"  front {report['front_m']['initial']:.3f} -> {report['front_m']['final']:.3f} m "
         f"(runout {report['runout_m']:.3f} m), height {report['height_m']['initial']:.3f} -> "
         f"{report['height_m']['final']:.3f} m, largest speed {report['max_velocity_m_s']:.3g} m/s",
+        *audit_lines(report.get("audit")),
         "  wall time [s]: " + ", ".join(f"{k} {v:.1f}" for k, v in w.items()),
         "  " + EPS_Q_NOTE,
         "  figures: " + ", ".join(f"figures/{f}" for f in figures),
@@ -75,9 +90,10 @@ def text(report, figures):
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
-    parser.add_argument("--timestamps", type=float, nargs=3, metavar=("START", "LIBRARY", "RUN"))
+    parser.add_argument("--timestamps", type=float, nargs=4, metavar=("START", "LIBRARY", "RUN", "AUDIT"))
     args = parser.parse_args()
     figures = collapse_figures.all_figures(args.out / "run", args.out / "figures")
+    figures += sorted(p.name for p in (args.out / "figures").glob("run_audit_*.png"))
     report = summarise(args.out, args.timestamps)
     report["figures"] = figures
     (args.out / "report.json").write_text(json.dumps(report, indent=2) + "\n")

@@ -1,6 +1,6 @@
 #!/bin/sh
 # The default demo (README, "The demo"): a small cohesive cell library, a cohesive column collapse
-# against it in `hybrid` mode, PNG figures and a short report.
+# against it in `hybrid` mode, the audit of that run against live cells, PNG figures and a short report.
 # Usage: run_demo.sh [OUT]   (default: ./demo_out)
 # Environment: GRAINBANK_BUILD_DIR (default: build next to workflows/), THREADS (default: all cores),
 #              DEMO_SCENE and DEMO_PATHS (other inputs, e.g. the tiny ones of the tests).
@@ -27,5 +27,11 @@ rm -rf "$out/run"
 "$build/database/celldb" info "$out/lib" --json > "$out/library.json"
 run_done=$(seconds)
 
+# The scene records a few points' histories ("audit"): re-run them with live cells and compare.
+echo "== audit of the run against live cells -> $out/run/audit"
+"$build/mpm_solver/mpm_solver" audit "$out/run" --threads "$threads" > "$out/run_audit.txt"
+"$python" "$here/../audit/plot_run_audit.py" "$out/run/audit" "$out/figures" 2> /dev/null
+audit_done=$(seconds)
+
 echo "== figures and report -> $out/figures, $out/report.txt"
-"$python" "$here/report.py" "$out" --timestamps "$start" "$library_done" "$run_done"
+"$python" "$here/report.py" "$out" --timestamps "$start" "$library_done" "$run_done" "$audit_done"

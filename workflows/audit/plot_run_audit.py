@@ -1,0 +1,93 @@
+"""Figures of an `mpm_solver audit RUN`: reads RUN/audit/run_audit.json and run_audit_steps.csv, writes
+(into RUN/audit, or FIGURES when given) run_audit_error_vs_time.png (the relative stress error of every audited point over time, marked by what
+answered the run: library hit, miss, live cell) and run_audit_histogram.png (the errors per source).
+
+Usage: /usr/bin/python3 workflows/audit/plot_run_audit.py RUN/audit [FIGURES]   (python3-matplotlib on Debian)
+"""
+import csv
+import json
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+from plotting.figures import plt, DPI  # noqa: E402  (after the path set-up; Agg backend chosen there)
+
+SOURCES = [("hit", "library hit", "tab:blue"), ("miss", "library miss", "tab:red"),
+           ("live", "live cell (hybrid)", "tab:green")]
+
+
+def read_steps(path):
+    """point id → list of (time, source, relative error)."""
+    points = {}
+    with open(path, newline="") as f:
+        for row in csv.DictReader(f):
+            points.setdefault(int(row["point"]), []).append(
+                (float(row["time"]), row["source"], float(row["relative_error"])))
+    return points
+
+
+def floor_of(points):
+    """Where exact answers (error 0) are drawn on the log axes."""
+    errors = [e for steps in points.values() for _, _, e in steps if e > 0]
+    return min(errors) / 10 if errors else 1e-16
+
+
+def error_vs_time(points, summary, out):
+    floor = floor_of(points)
+    fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
+    for steps in points.values():
+        ax.plot([t for t, _, _ in steps], [max(e, floor) for _, _, e in steps], color="0.75", lw=0.6, zorder=1)
+    for source, label, colour in SOURCES:
+        xy = [(t, max(e, floor)) for steps in points.values() for t, s, e in steps if s == source]
+        if xy:
+            ax.scatter(*zip(*xy), s=4, color=colour, label=f"{label}: {len(xy)} point-steps", zorder=2)
+    ax.set_yscale("log")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("relative stress error vs live cell")
+    cached = summary["cached"]
+    ax.set_title(f"mpm_solver audit: {len(points)} points; cached point-steps: median {cached['median']:.2g}, "
+                 f"p95 {cached['p95']:.2g}", fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
+def histogram(points, out):
+    floor = floor_of(points)
+    errors = [max(e, floor) for steps in points.values() for _, _, e in steps]
+    top = max(errors) * 10 if errors else 1.0
+    bins = [floor * (top / floor) ** (i / 40) for i in range(41)]
+    fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
+    for source, label, colour in SOURCES:
+        values = [max(e, floor) for steps in points.values() for _, s, e in steps if s == source]
+        if values:
+            ax.hist(values, bins=bins, alpha=0.6, color=colour, label=f"{label}: {len(values)}")
+    ax.set_xscale("log")
+    ax.set_xlabel("relative stress error |σ_run − σ_live| / max(|σ_live|, floor)")
+    ax.set_ylabel("point-steps")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) not in (2, 3):
+        sys.exit(__doc__)
+    directory = Path(sys.argv[1])
+    figures = Path(sys.argv[2]) if len(sys.argv) == 3 else directory
+    figures.mkdir(parents=True, exist_ok=True)
+    try:
+        summary = json.loads((directory / "run_audit.json").read_text())
+        points = read_steps(directory / "run_audit_steps.csv")
+    except (OSError, ValueError, KeyError) as e:
+        sys.exit(f"plot_run_audit.py: {directory}: not an mpm_solver audit directory: {e}")
+    outputs = [figures / "run_audit_error_vs_time.png", figures / "run_audit_histogram.png"]
+    error_vs_time(points, summary, outputs[0])
+    histogram(points, outputs[1])
+    print("wrote " + ", ".join(str(p) for p in outputs), file=sys.stderr)
+
+
+if __name__ == "__main__":
+    main()
