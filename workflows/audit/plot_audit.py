@@ -12,7 +12,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from plotting.figures import plt, DPI  # noqa: E402  (after the path set-up; Agg backend chosen there)
+from plotting.figures import plt, DPI, log_histogram  # noqa: E402  (after the path set-up; Agg backend chosen there)
 
 CHECKS = [("replay", "determinism (replayed)"), ("in_index", "in-index"), ("leave_one_out", "leave-one-path-out")]
 
@@ -28,27 +28,11 @@ def read_records(path):
 
 
 def histogram(rows, summary, out):
-    """Errors on a log axis; an exact answer (error 0) is drawn at the axis floor and counted in the legend."""
-    errors = [e for check, _ in CHECKS for _, e in rows[check] if e > 0]
-    floor = min(errors) / 10 if errors else 1e-16
-    top = max(errors) * 10 if errors else 1.0
-    bins = [floor * (top / floor) ** (i / 40) for i in range(41)]
-    fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
-    for check, label in CHECKS:
-        values = [max(e, floor) for _, e in rows[check]]
-        exact = sum(1 for _, e in rows[check] if e == 0)
-        if values:
-            ax.hist(values, bins=bins, alpha=0.6, label=f"{label}: {len(values)} answers ({exact} exact)")
-    ax.set_xscale("log")
-    ax.set_xlabel("relative stress error |σ − σ_true| / max(|σ_true|, floor)")
-    ax.set_ylabel("records")
     flagged = summary["determinism"]["flagged"]
-    ax.set_title(f"celldb audit: {summary['determinism']['checked']} replayed ({flagged} flagged), "
-                 f"{summary['leave_one_out']['count']} leave-one-out answers", fontsize=10)
-    ax.legend(fontsize=8)
-    ax.grid(alpha=0.3)
-    fig.savefig(out, dpi=DPI)
-    plt.close(fig)
+    log_histogram(out, [([e for _, e in rows[check]], label, None) for check, label in CHECKS],
+                  "relative stress error |σ − σ_true| / max(|σ_true|, floor)", "records",
+                  f"celldb audit: {summary['determinism']['checked']} replayed ({flagged} flagged), "
+                  f"{summary['leave_one_out']['count']} leave-one-out answers")
 
 
 def error_vs_distance(rows, summary, out):

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-from plotting.figures import plt, DPI  # noqa: E402  (after the path set-up; Agg backend chosen there)
+from plotting.figures import plt, DPI, log_histogram  # noqa: E402  (after the path set-up; Agg backend chosen there)
 
 SOURCES = [("hit", "library hit", "tab:blue"), ("miss", "library miss", "tab:red"),
            ("live", "live cell (hybrid)", "tab:green")]
@@ -54,22 +54,9 @@ def error_vs_time(points, summary, out):
 
 
 def histogram(points, out):
-    floor = floor_of(points)
-    errors = [max(e, floor) for steps in points.values() for _, _, e in steps]
-    top = max(errors) * 10 if errors else 1.0
-    bins = [floor * (top / floor) ** (i / 40) for i in range(41)]
-    fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
-    for source, label, colour in SOURCES:
-        values = [max(e, floor) for steps in points.values() for _, s, e in steps if s == source]
-        if values:
-            ax.hist(values, bins=bins, alpha=0.6, color=colour, label=f"{label}: {len(values)}")
-    ax.set_xscale("log")
-    ax.set_xlabel("relative stress error |σ_run − σ_live| / max(|σ_live|, floor)")
-    ax.set_ylabel("point-steps")
-    ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.savefig(out, dpi=DPI)
-    plt.close(fig)
+    log_histogram(out, [([e for steps in points.values() for _, s, e in steps if s == source], label, colour)
+                        for source, label, colour in SOURCES],
+                  "relative stress error |σ_run − σ_live| / max(|σ_live|, floor)", "point-steps")
 
 
 def main():

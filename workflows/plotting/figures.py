@@ -77,3 +77,28 @@ def time_plot(out, curves, xlabel, ylabel, title=None, log_y=False):
     fig.savefig(out, dpi=DPI)
     plt.close(fig)
 
+
+
+def log_histogram(out, groups, xlabel, ylabel, title=None):
+    """Overlaid histograms of positive errors on a log axis. groups: list of (values, label, colour or
+    None); the label gets the count and how many values are exactly 0, which are drawn at the floor
+    (a tenth of the smallest positive value)."""
+    positive = [v for values, _, _ in groups for v in values if v > 0]
+    floor = min(positive) / 10 if positive else 1e-16
+    top = max(positive) * 10 if positive else 1.0
+    bins = [floor * (top / floor) ** (i / 40) for i in range(41)]
+    fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
+    for values, label, colour in groups:
+        if values:
+            exact = sum(1 for v in values if v == 0)
+            ax.hist([max(v, floor) for v in values], bins=bins, alpha=0.6, color=colour,
+                    label=f"{label}: {len(values)} ({exact} exact)")
+    ax.set_xscale("log")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
