@@ -5,7 +5,7 @@ trades accuracy for time (variants.py), error against wall and CPU time as a Par
   study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|smoke]
                [--end T] [--threads N] [--build DIR]
 
-Defaults: the demo's column (workflows/demo/column.json), its weak snow cell and library paths. The
+Defaults: the demo's column (workflows/demo/column.json), its soft snow cell and library paths. The
 library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
 by every library run. Runs already finished in OUT/runs/ are kept (delete them to rerun).
 Errors against the reference, at their common output times: front = worst relative runout error
@@ -99,7 +99,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
     parser.add_argument("--scene", type=Path, default=WORKFLOWS / "demo" / "column.json")
-    parser.add_argument("--cell", type=Path, default=WORKFLOWS / "cache_vs_live" / "cell_weak_snow_125.json")
+    parser.add_argument("--cell", type=Path, default=WORKFLOWS / "demo" / "cell_soft_snow_125.json")
     parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
     parser.add_argument("--variants", choices=sorted(variants.SETS), default="full")
     parser.add_argument("--end", type=float, help="end time [s] instead of the scene's")

@@ -3,7 +3,8 @@
 # then collapsing when both gates are removed at t = 0.5 s. README, "The paper's column collapse".
 # Usage: run_column.sh [OUT]   (default: ./column_out)
 # Environment: LAW = live (the paper's method, default) | hybrid | cache; END = end time [s] (default:
-#   the scene's 2.5 s); THREADS (default: all cores); GRAINBANK_BUILD_DIR (default: build).
+#   the scene's 2.5 s); PPC = material points per grid cell and direction (default: the scene's 2);
+#   THREADS (default: all cores); GRAINBANK_BUILD_DIR (default: build).
 # hybrid and cache first build OUT/lib from paths.json (skipped when already sampled).
 # Run time on 2 cores: hours to days (estimate_time.py measures and extrapolates it; do not start a full
 # run by accident).
@@ -21,6 +22,7 @@ if [ "$law" != live ]; then
   [ "$law" = hybrid ] && set -- "$@" --material "$here/hybrid.json"
 fi
 [ -n "${END:-}" ] && set -- "$@" --end "$END"
+[ -n "${PPC:-}" ] && set -- "$@" --points-per-cell "$PPC"
 PYTHONPATH="$here/.." "$python" -m plotting.scenes "$here/column.json" "$out/scene.json" "$@"
 "$build/mpm_solver/mpm_solver" "$out/scene.json" --out "$out/run" --threads "$threads"
 "$python" "$here/figures.py" "$out/run" "$out/figures"

@@ -3,7 +3,7 @@ library, a shorter end time, or any knob (substepping, lookup, grid). The loader
 do not belong to a law (a `lookup` block on a live material), so a law change also drops them.
 
   python3 -m plotting.scenes BASE.json OUT.json [--law L] [--library LIB] [--material KEYS.json] [--end T]
-                            [--output-interval T]
+                            [--output-interval T] [--points-per-cell N]
 """
 import argparse
 import copy
@@ -70,10 +70,15 @@ def main():
     parser.add_argument("--material", type=Path, help="JSON object of keys merged into the DEM-backed materials")
     parser.add_argument("--end", type=float)
     parser.add_argument("--output-interval", type=float)
+    parser.add_argument("--points-per-cell", type=int, help="of every region (n × n material points per grid cell)")
     args = parser.parse_args()
     time = {k: v for k, v in (("end", args.end), ("output_interval", args.output_interval)) if v is not None}
     material = json.loads(args.material.read_text()) if args.material else None
-    save(variant(load(args.base), args.law, args.library, material, time), args.out)
+    base = load(args.base)
+    top = None
+    if args.points_per_cell:
+        top = {"regions": [{**region, "points_per_cell": args.points_per_cell} for region in base["regions"]]}
+    save(variant(base, args.law, args.library, material, time, top), args.out)
 
 
 if __name__ == "__main__":
