@@ -29,11 +29,13 @@ void make_absolute(nlohmann::json& material, const char* key, const std::filesys
 }
 
 // Keys of the material's old law that the new one does not take (a `lookup` block on a live
-// material) would be refused by the loader.
+// material) would be refused by the loader. A cache/hybrid material may name its cell next to its
+// library (a check of the material); a live one takes one source, the library's template.
 void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
   const auto keys = io::dem_material_keys(law);
   for (auto it = material.begin(); it != material.end();)
     it = std::find(keys.begin(), keys.end(), it.key()) == keys.end() ? material.erase(it) : std::next(it);
+  if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
 }  // namespace

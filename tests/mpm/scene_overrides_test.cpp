@@ -49,6 +49,7 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
   scene["materials"][2]["lookup"] = {{"k", 4}};
   scene["materials"][2]["fallback"] = {{"return_after", 5}};
   scene["materials"][2]["enrich"] = true;
+  scene["materials"][2]["cell"] = "cells/firn.json";  // a check of the library's material
   const nlohmann::json live = apply_overrides(scene, "/scenes", {.law = "live", .library = std::nullopt});
   EXPECT_EQ(live["materials"][2], nlohmann::json::parse(R"({"name": "firn", "law": "live", "library": "/scenes/lib",
                                                             "template": 2})"));
@@ -57,6 +58,7 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
   EXPECT_EQ(cache["materials"][2]["lookup"], scene["materials"][2]["lookup"]);
   EXPECT_FALSE(cache["materials"][2].contains("fallback"));
   EXPECT_FALSE(cache["materials"][2].contains("enrich"));
+  EXPECT_EQ(cache["materials"][2]["cell"], "/scenes/cells/firn.json");
 }
 
 TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
