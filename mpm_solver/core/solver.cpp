@@ -136,9 +136,12 @@ void Solver::locate_points() {
   for (const MaterialPoint& mp : points_)
     if (!grid_.contains(mp.position) || !mp.position.allFinite()) {
       std::ostringstream msg;
-      msg << "material point " << mp.id << " left the grid at t = " << time_ << " s: position (" << mp.position.x()
-          << ", " << mp.position.y() << "), grid [" << grid_.lower().x() << ", " << grid_.upper().x() << "] x ["
-          << grid_.lower().y() << ", " << grid_.upper().y() << "]; enlarge the grid or add walls";
+      msg << "material point " << mp.id << " (law " << laws_[mp.law]->name() << ") left the grid at t = " << time_
+          << " s: position (" << mp.position.x() << ", " << mp.position.y() << "), velocity (" << mp.velocity.x()
+          << ", " << mp.velocity.y() << ") m/s, grid [" << grid_.lower().x() << ", " << grid_.upper().x() << "] x ["
+          << grid_.lower().y() << ", " << grid_.upper().y() << "]; enlarge the grid or add walls, or, if that speed is "
+          << "not physical, look at the point's law (a cache law answering misses far from its library can throw "
+             "points: see misses in series.csv)";
       throw std::runtime_error(msg.str());
     }
   compute_stencils(grid_, points_, stencils_);

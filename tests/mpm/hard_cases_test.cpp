@@ -86,7 +86,7 @@ TEST(HardCases, ImpactOnATooSoftLineStopsWithTheNameOfThePointAndTheRemedy) {
 TEST(HardCases, PointLeavingTheGridStopsTheRunNamingThePointAndTheRemedy) {
   Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), 0.1, 10, 10), kDensity, kYoung, kPoisson, 0.95);
   seed_region(solver, 0, rectangle(Vec2(0.4, 0.7), Vec2(0.6, 0.9)), 2, Vec2(0, 3));
-  expect_mentions(error_of_run(solver, 1.0), {"material point ", "left the grid", "enlarge the grid"});
+  expect_mentions(error_of_run(solver, 1.0), {"material point ", "(law elastic) left the grid", ", 3) m/s", "enlarge the grid"});
   EXPECT_LT(solver.time(), 0.1) << "it leaves within 0.1 m / 3 m/s";
   for (const MaterialPoint& mp : solver.points()) EXPECT_TRUE(finite(mp)) << "point " << mp.id;
 }
