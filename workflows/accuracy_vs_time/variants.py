@@ -23,8 +23,6 @@ FULL = {
     "q_sigma_0.05": {"knob": "Q_sigma", "value": 0.05, "law": "live", "material": {"substepping": {"q_sigma": 0.05}}},
     "q_sigma_0.5": {"knob": "Q_sigma", "value": 0.5, "law": "live", "material": {"substepping": {"q_sigma": 0.5}}},
     "spheres_64": {"knob": "spheres per cell", "value": 64, "law": "live", "cell_spheres": 64},
-    "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
-    "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
     "hybrid": {"knob": "hybrid (tolerance 1, k 4, warm start)", "value": "", "law": "hybrid", "material": hybrid()},
     "hybrid_tol_0.3": {"knob": "lookup tolerance", "value": 0.3, "law": "hybrid", "material": hybrid(tolerance=0.3)},
     "hybrid_tol_3": {"knob": "lookup tolerance", "value": 3.0, "law": "hybrid", "material": hybrid(tolerance=3.0)},
@@ -35,6 +33,9 @@ FULL = {
     "hybrid_k_8": {"knob": "lookup k", "value": 8, "law": "hybrid", "material": hybrid(k=8)},
     "hybrid_replay": {"knob": "fallback start", "value": "replay", "law": "hybrid", "material": hybrid(start="replay")},
     "cache": {"knob": "cache only", "value": "", "law": "cache", "material": lookup()},
+    # Last: the finer grid has 4x the points, the costliest run; an interrupted study has the rest.
+    "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
+    "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
 }
 # The CI smoke test: the reference and two variants.
 SMOKE = {name: FULL[name] for name in ("live", "q_sigma_0.5", "hybrid")}
