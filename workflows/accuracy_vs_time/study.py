@@ -3,7 +3,7 @@
 trades accuracy for time (variants.py), error against wall and CPU time as a Pareto plot and a table.
 
   study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|smoke]
-               [--end T] [--threads N] [--build DIR]
+               [--skip RUN,RUN] [--end T] [--threads N] [--build DIR]
 
 Defaults: the demo's column (workflows/demo/column.json), its soft snow cell and library paths. The
 library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
@@ -102,15 +102,21 @@ def main():
     parser.add_argument("--cell", type=Path, default=WORKFLOWS / "demo" / "cell_soft_snow_125.json")
     parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
     parser.add_argument("--variants", choices=sorted(variants.SETS), default="full")
+    parser.add_argument("--skip", default="", help="runs of the set to leave out, comma-separated (e.g. grid_x0.5)")
     parser.add_argument("--end", type=float, help="end time [s] instead of the scene's")
     parser.add_argument("--threads", type=int, default=os.cpu_count())
     parser.add_argument("--build", type=Path, default=Path(os.environ.get("GRAINBANK_BUILD_DIR", WORKFLOWS.parent / "build")))
     args = parser.parse_args()
+    chosen = variants.SETS[args.variants]
+    skipped = [name for name in args.skip.split(",") if name]
+    unknown = [name for name in skipped if name not in chosen or name == "live"]
+    if unknown:
+        parser.error(f"--skip: expected runs of the set other than the reference live, got {', '.join(unknown)}")
+    chosen = {name: spec for name, spec in chosen.items() if name not in skipped}
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build if args.build.is_absolute() else WORKFLOWS.parent / args.build
     library, library_cost = build_library(args, build)
     base = scenes.load(args.scene)
-    chosen = variants.SETS[args.variants]
     costs = {}
     for name, spec in chosen.items():
         costs[name] = run(name, scene_of(name, spec, base, library, args), build, args)
