@@ -7,7 +7,7 @@ import math
 from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
 
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", "front_rel_err", "stress_rel_l2",
-           "deposit_rms_m"]
+           "deposit_rms_m", "failed"]
 
 
 class AccuracyVsTimeTest(WorkflowTest):
@@ -25,7 +25,8 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
         for r in rows.values():
             self.assertTrue(float(r["cpu_s"]) > 0 and float(r["wall_s"]) > 0)
-            self.assertTrue(all(math.isfinite(float(r[k])) for k in COLUMNS[6:]))
+            self.assertTrue(all(math.isfinite(float(r[k])) for k in COLUMNS[6:-1]))
+            self.assertEqual(r["failed"], "")
         markdown = (self.out / "results.md").read_text().splitlines()
         self.assertEqual(len(markdown), 2 + len(rows))
         self.assertTrue(markdown[0].startswith("| run | knob |"))

@@ -12,6 +12,7 @@ Errors against the reference, at their common output times: front = worst relati
 (rows with a reference runout above 1 cm), stress = mean relative L2 of the in-plane stress field
 (points matched by id, by nearest position when the discretisation differs), deposit = RMS difference
 of the free-surface height at the last output [m].
+A run that stops before the end (its error in the column `failed`) is compared up to where it stopped.
 Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
 """
 import argparse
@@ -26,7 +27,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import flow, scenes, tables, vtu  # noqa: E402  (after the path set-up)
-from plotting.timing import timed  # noqa: E402
+from plotting.timing import timed, timed_run  # noqa: E402
 import variants  # noqa: E402
 
 WORKFLOWS = HERE.parent
@@ -64,8 +65,11 @@ def run(name, scene, build, args):
         return json.loads((folder / "study_run.json").read_text())
     scene_file = args.out / "scenes" / f"{name}.json"
     scenes.save(scene, scene_file)
-    wall, cpu = timed([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder, "--threads", args.threads])
-    result = {"wall_s": wall, "cpu_s": cpu}
+    # A run that stops (e.g. a point thrown out of the grid) is a result too: its error is kept and its
+    # outputs up to the stop are compared.
+    wall, cpu, error = timed_run([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder, "--threads",
+                                  args.threads])
+    result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
     (folder / "study_run.json").write_text(json.dumps(result) + "\n")
     return result
 
@@ -124,11 +128,13 @@ def main():
     reference = args.out / "runs" / "live"
     rows = []
     for name, spec in chosen.items():
-        summary = json.loads((args.out / "runs" / name / "summary.json").read_text())
+        folder = args.out / "runs" / name
+        series = tables.read_csv(folder / "series.csv")
         rows.append({"run": name, "knob": spec["knob"], "value": spec["value"], "law": spec["law"],
-                     "points": summary["points"], "steps": summary["steps"],
+                     "points": len(vtu.read_vtu(vtu.read_pvd(folder / "points.pvd")[0][1])),
+                     "steps": int(series["step"][-1]),
                      "wall_s": costs[name]["wall_s"], "cpu_s": costs[name]["cpu_s"],
-                     **errors(args.out / "runs" / name, reference)})
+                     **errors(folder, reference), "failed": costs[name].get("failed", "")})
     tables.write_csv(args.out / "results.csv", rows)
     tables.write_markdown(args.out / "results.md", rows)
     (args.out / "study.json").write_text(json.dumps({"variants": args.variants, "scene": str(args.scene),
