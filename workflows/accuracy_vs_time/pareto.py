@@ -24,7 +24,13 @@ def pareto_front(points):
 def plot(rows, out):
     fig, axes = plt.subplots(1, len(MEASURES), figsize=(5 * len(MEASURES), 4.2), layout="constrained")
     for ax, (key, label) in zip(axes, MEASURES):
-        others = [r for r in rows if r["run"] != "live"]
+        # A run that stopped early is drawn (x, "stopped") but is not a candidate of the front: its
+        # errors cover only the time before it stopped.
+        for r in (r for r in rows if r.get("failed")):
+            ax.scatter(r["cpu_s"], r[key], marker="x", color="k")
+            ax.annotate(r["run"] + " (stopped)", (r["cpu_s"], r[key]), fontsize=7, xytext=(3, 3),
+                        textcoords="offset points")
+        others = [r for r in rows if r["run"] != "live" and not r.get("failed")]
         for r in others:
             ax.scatter(r["cpu_s"], r[key], marker="s" if r["law"] == "live" else "o")
             ax.annotate(r["run"], (r["cpu_s"], r[key]), fontsize=7, xytext=(3, 3), textcoords="offset points")
@@ -38,7 +44,8 @@ def plot(rows, out):
         ax.set_ylabel(label)
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
-    fig.suptitle("accuracy versus time against the live reference (squares: live variants, circles: library)",
+    fig.suptitle("accuracy versus time against the live reference (squares: live variants, circles: library, "
+                 "x: stopped early)",
                  fontsize=10)
     fig.savefig(out, dpi=DPI)
     plt.close(fig)
