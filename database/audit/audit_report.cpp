@@ -3,13 +3,14 @@
 #include <cmath>
 
 namespace grainbank::audit {
-namespace {
 
 using nlohmann::json;
 
 json summary_of(const ErrorSummary& s) {
   return {{"count", s.count}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}};
 }
+
+namespace {
 
 // JSON has no infinity or NaN: those become null.
 json number(double value) { return std::isfinite(value) ? json(value) : json(nullptr); }

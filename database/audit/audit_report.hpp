@@ -9,6 +9,9 @@
 
 namespace grainbank::audit {
 
+// {count, median, p95, max} of a sample of errors (the shape of every summary in the audits' JSON).
+nlohmann::json summary_of(const ErrorSummary& summary);
+
 // {"sample": {...}, "determinism": {checked, flagged, median, p95, max, flagged_records: [{path,
 // record, from_record, relative_error, stored, replayed, error}]}, "in_index": {...}, "leave_one_out":
 // {...}, "error_vs_distance": {bins: [...], target, suggested_tolerance, at_suggested, at_tolerance}}

@@ -6,6 +6,7 @@
 #include <set>
 #include <string>
 
+#include "audit/audit_report.hpp"
 #include "audit/run_audit.hpp"
 #include "common/json_input.hpp"
 #include "io/scene_input.hpp"
@@ -27,10 +28,6 @@ const char* source_name(StressSource s) {
   return "?";
 }
 
-nlohmann::json summary_json(const grainbank::audit::ErrorSummary& s) {
-  return {{"count", s.count}, {"median", s.median}, {"p95", s.p95}, {"max", s.max}};
-}
-
 io::AuditTrail read_trail(const std::filesystem::path& run) {
   const std::filesystem::path file = run / io::kAuditTrailFile;
   if (!std::filesystem::exists(file))
@@ -45,23 +42,19 @@ io::AuditTrail read_trail(const std::filesystem::path& run) {
   return trail;
 }
 
-// The run's scene with its DEM-backed materials live, written next to the audit's outputs.
-std::filesystem::path live_scene(const io::AuditTrail& trail, const std::filesystem::path& directory) {
+// The run's scene with its DEM-backed materials live and their cell and library paths absolute.
+nlohmann::json live_scene(const io::AuditTrail& trail) {
   const std::filesystem::path scene = trail.scene;
   SceneOverrides live;
   live.law = "live";
-  const nlohmann::json doc = apply_overrides(common::load_json_file(scene), scene.parent_path(), live);
-  const std::filesystem::path file = directory / "scene_live.json";
-  std::ofstream(file) << doc.dump(2) << '\n';
-  return file;
+  return apply_overrides(common::load_json_file(scene), scene.parent_path(), live);
 }
 
-// The libraries of the scene's materials (absolute), each once.
-std::set<std::filesystem::path> libraries_of(const std::filesystem::path& scene) {
-  std::set<std::filesystem::path> out;
-  for (const auto& m : common::load_json_file(scene).value("materials", nlohmann::json::array()))
-    if (m.is_object() && m.contains("library") && m["library"].is_string())
-      out.insert(std::filesystem::weakly_canonical(scene.parent_path() / m["library"].get<std::string>()));
+// The libraries of the scene's materials, each once.
+std::set<std::string> libraries_of(const nlohmann::json& scene) {
+  std::set<std::string> out;
+  for (const auto& m : scene["materials"])
+    if (m.contains("library")) out.insert(m["library"].get<std::string>());
   return out;
 }
 
@@ -96,7 +89,10 @@ nlohmann::json run_audit_command(const AuditCommandOptions& options, std::ostrea
   const io::AuditTrail trail = read_trail(options.run);
   const std::filesystem::path directory = options.run / "audit";
   std::filesystem::create_directories(directory);
-  const io::Scene reference = io::load_scene(live_scene(trail, directory));
+  const nlohmann::json scene = live_scene(trail);
+  const std::filesystem::path scene_file = directory / "scene_live.json";
+  std::ofstream(scene_file) << scene.dump(2) << '\n';
+  const io::Scene reference = io::load_scene(scene_file);
   Solver& solver = *reference.solver;
 
   const audit::RunAudit audit = audit::audit_run(trail, [&](std::uint32_t id) {
@@ -114,18 +110,18 @@ nlohmann::json run_audit_command(const AuditCommandOptions& options, std::ostrea
                             {"points", nlohmann::json::array()},
                             {"steps_compared", audit.steps.size()},
                             {"stress_floor_pa", audit.stress_floor},
-                            {"by_source", {{"hit", summary_json(audit.hit)},
-                                           {"miss", summary_json(audit.miss)},
-                                           {"live", summary_json(audit.live)}}},
-                            {"cached", summary_json(audit.cached)},
-                            {"all", summary_json(audit.all)},
+                            {"by_source", {{"hit", grainbank::audit::summary_of(audit.hit)},
+                                           {"miss", grainbank::audit::summary_of(audit.miss)},
+                                           {"live", grainbank::audit::summary_of(audit.live)}}},
+                            {"cached", grainbank::audit::summary_of(audit.cached)},
+                            {"all", grainbank::audit::summary_of(audit.all)},
                             {"outputs", {{"directory", std::filesystem::absolute(directory).string()}}}};
   for (const io::PointTrail& p : trail.points) summary["points"].push_back(p.id);
   write_steps_csv(audit, directory / "run_audit_steps.csv");
   nlohmann::json audit_ids = nlohmann::json::array();
-  for (const std::filesystem::path& lib : libraries_of(trail.scene)) {
+  for (const std::string& lib : libraries_of(scene)) {
     db::Library library = db::Library::open(lib);
-    audit_ids.push_back({{"library", lib.string()}, {"audit_id", db::record_audit(library.catalogue(), summary)}});
+    audit_ids.push_back({{"library", lib}, {"audit_id", db::record_audit(library.catalogue(), summary)}});
   }
   summary["catalogue_rows"] = audit_ids;
   std::ofstream(directory / "run_audit.json") << summary.dump(2) << '\n';

@@ -1,7 +1,6 @@
 #include "scene_overrides.hpp"
 
 #include <algorithm>
-#include <array>
 #include <string_view>
 
 #include "common/json_input.hpp"
@@ -11,13 +10,11 @@ namespace grainbank::mpm::app {
 
 namespace {
 
-constexpr std::array<std::string_view, 3> kDemBackedLaws = {"live", "cache", "hybrid"};
 constexpr const char* kDemBackedList = "live, cache or hybrid";
 
 bool dem_backed(const nlohmann::json& material) {
   const auto law = material.find("law");
-  return law != material.end() && law->is_string() &&
-         std::find(kDemBackedLaws.begin(), kDemBackedLaws.end(), law->get<std::string>()) != kDemBackedLaws.end();
+  return law != material.end() && law->is_string() && !io::dem_material_keys(law->get<std::string>()).empty();
 }
 
 // A relative path of the scene is relative to the scene's folder; the rewritten scene is read from
@@ -43,8 +40,7 @@ void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
                                const SceneOverrides& overrides) {
   const std::string flags = overrides.law && overrides.library ? "--law/--library" : overrides.law ? "--law" : "--library";
-  if (overrides.law &&
-      std::find(kDemBackedLaws.begin(), kDemBackedLaws.end(), *overrides.law) == kDemBackedLaws.end())
+  if (overrides.law && io::dem_material_keys(*overrides.law).empty())
     throw common::InputError("--law: expected " + std::string(kDemBackedList) + ", got \"" + *overrides.law + "\"");
   if (overrides.library && overrides.library->empty())
     throw common::InputError("--library: expected a library directory, got an empty path");

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "scene_input.hpp"
 #include "store/error.hpp"
 #include "store/hdf5_handle.hpp"
 
@@ -99,8 +100,7 @@ AuditTrail read_audit_trail(const std::filesystem::path& file) {
 std::vector<std::uint32_t> spread_audit_points(const Solver& solver, std::size_t count) {
   std::vector<std::uint32_t> dem_backed;
   for (const MaterialPoint& mp : solver.points()) {
-    const std::string law = solver.law(mp.law).name();
-    if (law == "live" || law == "cache" || law == "hybrid") dem_backed.push_back(mp.id);
+    if (!dem_material_keys(solver.law(mp.law).name()).empty()) dem_backed.push_back(mp.id);
   }
   std::sort(dem_backed.begin(), dem_backed.end());
   if (count == 0 || count > dem_backed.size())
