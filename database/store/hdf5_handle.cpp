@@ -193,6 +193,11 @@ void remove_child(const Object& parent, const std::string& name) {
   if (H5Ldelete(parent.id(), name.c_str(), H5P_DEFAULT) < 0) parent.fail("cannot remove " + name);
 }
 
+void copy_object(const Object& from, const Object& to, const std::string& name) {
+  if (H5Ocopy(from.id(), name.c_str(), to.id(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT) < 0)
+    from.fail("cannot copy " + name + " to " + to.file().string());
+}
+
 template <class T>
 void write_array(const Object& parent, const std::string& name, const std::vector<T>& data, hsize_t columns) {
   const hsize_t rows = columns ? data.size() / columns : data.size();

@@ -55,8 +55,12 @@ Object create_group(const Object& parent, const std::string& name);
 Object open_group(const Object& parent, const std::string& name);
 bool has_child(const Object& parent, const std::string& name);
 std::vector<std::string> child_names(const Object& group);
-// Unlinks a child; HDF5 does not give the space back (h5repack does).
+// Unlinks a child; HDF5 does not give the space back (h5repack does). Fails when the child's own
+// object header is unreadable (unlinking updates it): Shard::rewrite_without handles that case.
 void remove_child(const Object& parent, const std::string& name);
+// Copies the object `name` of `from` (a group with everything below it, or a dataset, attributes
+// included) to the same path in `to`, whose parent group must exist.
+void copy_object(const Object& from, const Object& to, const std::string& name);
 
 // Element types stored in shards.
 template <class T>

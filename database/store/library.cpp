@@ -206,11 +206,24 @@ void ShardWriter::start_path(std::int64_t path_id) {
     throw MaterialMismatch(library_.catalogue().file(), "path " + std::to_string(path_id) + " has parameter hash " +
                                                             path.parameter_hash + ", the library " +
                                                             library_.parameter_hash());
-  // A crash after an earlier start left an orphan group: it holds nothing committed.
-  if (shard_.has_group(Shard::path_group(path_id))) shard_.remove_group(Shard::path_group(path_id));
+  remove_leftover(Shard::path_group(path_id));
   shard_.create_path(path_id);
   shard_.flush();
   library_.catalogue().set_path_running(path_id, shard_id_, Shard::path_group(path_id));
+}
+
+// What an interrupted writer left at `group` holds nothing committed. A group whose object header
+// the interruption left half written cannot be unlinked in place; `verify --repair` rewrites the
+// shard without it.
+void ShardWriter::remove_leftover(const std::string& group) {
+  if (!shard_.has_group(group)) return;
+  try {
+    shard_.remove_group(group);
+  } catch (const StoreError& e) {
+    throw StoreError(library_.directory(), "cannot remove " + group + ", left damaged by an interrupted writer (" +
+                                               e.what() + "); nothing committed is lost. Run `celldb verify " +
+                                               library_.directory().string() + " --repair`, then run again.");
+  }
 }
 
 PathRow ShardWriter::own_running_path(std::int64_t path_id) {
@@ -244,7 +257,7 @@ void ShardWriter::add_snapshot(std::int64_t path_id, std::int64_t record_index, 
       throw StoreError(shard_.file(), "path " + std::to_string(path_id) + " already has a snapshot at record " +
                                           std::to_string(record_index));
   const std::string group = Shard::snapshot_group(path_id, record_index);
-  if (shard_.has_group(group)) shard_.remove_group(group);  // not committed (checked above): a crash's leftover
+  remove_leftover(group);  // not committed (checked above)
   shard_.write_snapshot(path_id, record_index, cell);
   shard_.flush();
   library_.catalogue().insert_snapshot(path_id, record_index, shard_id_, group);

@@ -84,6 +84,7 @@ class ShardWriter {
  private:
   ShardWriter(Library& library, std::pair<std::int64_t, Shard> shard);
   PathRow own_running_path(std::int64_t path_id);
+  void remove_leftover(const std::string& group);
   Library& library_;
   std::int64_t shard_id_;
   Shard shard_;

@@ -1,5 +1,11 @@
 #include "shard.hpp"
 
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 namespace grainbank::db {
 namespace {
 
@@ -15,6 +21,15 @@ std::int64_t parse_id(const h5::Object& where, const std::string& name) {
   } catch (const std::exception&) {
   }
   throw StoreError(where.file(), where.name() + "/" + name + ": unexpected member (expected a number)");
+}
+
+// A file's data, or a directory's entries, on disk: a rename is durable once both are.
+void sync_to_disk(const std::filesystem::path& file) {
+  const int fd = ::open(file.c_str(), O_RDONLY);
+  const bool synced = fd >= 0 && ::fsync(fd) == 0;
+  const int error = errno;
+  if (fd >= 0) ::close(fd);
+  if (!synced) throw StoreError(file, std::string("cannot sync to disk: ") + std::strerror(error));
 }
 
 }  // namespace
@@ -122,5 +137,32 @@ std::vector<std::int64_t> Shard::snapshot_indices(std::int64_t path_id) const {
 void Shard::remove_group(const std::string& group) { h5::remove_child(file_, group); }
 
 void Shard::truncate_records(std::int64_t path_id, std::uint64_t rows) { h5::resize_rows(records_table(path_id), rows); }
+
+void Shard::rewrite_without(const std::filesystem::path& file, const std::set<std::string>& dropped) {
+  const std::filesystem::path copy_file = std::filesystem::path(file).replace_extension(".repair.h5");
+  std::filesystem::remove(copy_file);
+  try {
+    const Shard source = open(file, false);
+    Shard copy = create(copy_file, h5::read_string_attribute(source.file_, "shard"), source.parameter_hash());
+    const auto copy_kept = [&](const std::string& group) {
+      if (!dropped.count(group)) h5::copy_object(source.file_, copy.file_, group);
+    };
+    for (const std::string& token : source.template_tokens()) copy_kept(template_group(token));
+    for (const std::int64_t id : source.path_ids()) {
+      if (dropped.count(path_group(id))) continue;
+      // Rebuilt member by member: some of its snapshots may be dropped.
+      h5::create_group(h5::create_group(copy.file_, path_group(id)), "snapshots");
+      h5::copy_object(source.file_, copy.file_, path_group(id) + "/records");
+      for (const std::int64_t index : source.snapshot_indices(id)) copy_kept(snapshot_group(id, index));
+    }
+    copy.flush();
+  } catch (...) {
+    std::filesystem::remove(copy_file);
+    throw;
+  }
+  sync_to_disk(copy_file);
+  std::filesystem::rename(copy_file, file);
+  sync_to_disk(std::filesystem::absolute(file).parent_path());
+}
 
 }  // namespace grainbank::db

@@ -34,9 +34,13 @@ struct ShardChecker {
     }
   }
 
-  void remove_orphan(const std::string& group, const std::string& message) {
-    if (repair) shard.remove_group(group);
-    add(Kind::orphan, group, message, repair);
+  // Orphan groups are removed together, after the check, by rewriting the shard without them.
+  std::set<std::string>& orphan_groups;
+  std::vector<std::size_t>& orphan_group_findings;
+  void orphan_group(const std::string& group, const std::string& message) {
+    orphan_groups.insert(group);
+    orphan_group_findings.push_back(report.findings.size());
+    add(Kind::orphan, group, message);
   }
 
   void check(const std::vector<TemplateRow>& templates, const std::vector<PathRow>& paths,
@@ -54,7 +58,7 @@ struct ShardChecker {
     }
     for (const std::string& token : shard.template_tokens())
       if (!committed_groups.count(Shard::template_group(token)))
-        remove_orphan(Shard::template_group(token), "template group with no committed template row");
+        orphan_group(Shard::template_group(token), "template group with no committed template row");
 
     std::map<std::int64_t, const PathRow*> own_paths;
     for (const PathRow& p : paths)
@@ -90,12 +94,12 @@ struct ShardChecker {
 
     for (const std::int64_t id : shard.path_ids()) {
       if (!own_paths.count(id)) {
-        remove_orphan(Shard::path_group(id), "path group with no path committed to this shard");
+        orphan_group(Shard::path_group(id), "path group with no path committed to this shard");
         continue;
       }
       for (const std::int64_t index : shard.snapshot_indices(id))
         if (!own_snapshots[id].count(index))
-          remove_orphan(Shard::snapshot_group(id, index), "snapshot group with no committed snapshot row");
+          orphan_group(Shard::snapshot_group(id, index), "snapshot group with no committed snapshot row");
     }
   }
 };
@@ -107,7 +111,8 @@ void check_catalogue(Catalogue& catalogue, VerifyReport& report) {
       report.findings.push_back(Finding{Kind::inconsistency, catalogue.file().string(), "quick_check", s.text(0), false});
 }
 
-// *.h5 files under shards/ that no shard row names: created, then a crash before the row committed.
+// *.h5 files under shards/ that no shard row names: created, then a crash before the row committed;
+// or a repair's copy of a shard (Shard::rewrite_without), then a crash before the rename.
 void check_stray_files(Library& library, const std::vector<ShardRow>& shards, bool repair, VerifyReport& report) {
   std::set<std::filesystem::path> known;
   for (const ShardRow& row : shards) known.insert(library.shard_path(row).lexically_normal());
@@ -135,6 +140,34 @@ void make_openable(const std::filesystem::path& shard) {
   }
 }
 
+// Checks one shard; with `repair`, truncates uncommitted rows in place and rewrites the shard without
+// its orphan groups, unless it holds damaged committed data: such a shard is left as it is.
+void check_shard(Library& library, bool repair, VerifyReport& report, const ShardRow& row,
+                 const std::vector<TemplateRow>& templates, const std::vector<PathRow>& paths,
+                 const std::vector<SnapshotRow>& snapshots) {
+  const std::filesystem::path file = library.shard_path(row);
+  if (repair) make_openable(file);
+  const std::size_t first_finding = report.findings.size();
+  std::set<std::string> orphan_groups;
+  std::vector<std::size_t> orphan_group_findings;
+  {
+    Shard shard = Shard::open(file, repair);
+    ShardChecker{library, repair, report, row, shard, orphan_groups, orphan_group_findings}.check(templates, paths,
+                                                                                                   snapshots);
+    if (repair) shard.flush();
+  }
+  if (!repair || orphan_groups.empty()) return;
+  const bool damaged = std::any_of(report.findings.begin() + static_cast<std::ptrdiff_t>(first_finding),
+                                   report.findings.end(), [](const Finding& f) { return f.kind == Kind::inconsistency; });
+  if (damaged) {
+    for (const std::size_t k : orphan_group_findings)
+      report.findings[k].message += " (left: repair does not rewrite a shard with damaged committed data)";
+    return;
+  }
+  Shard::rewrite_without(file, orphan_groups);
+  for (const std::size_t k : orphan_group_findings) report.findings[k].repaired = true;
+}
+
 }  // namespace
 
 std::size_t VerifyReport::orphans() const {
@@ -159,10 +192,7 @@ VerifyReport verify_library(Library& library, bool repair) {
   for (const ShardRow& row : shards) {
     ++report.shards;
     try {
-      if (repair) make_openable(library.shard_path(row));
-      Shard shard = Shard::open(library.shard_path(row), repair);
-      ShardChecker{library, repair, report, row, shard}.check(templates, paths, snapshots);
-      if (repair) shard.flush();
+      check_shard(library, repair, report, row, templates, paths, snapshots);
     } catch (const StoreError& e) {
       // A writer whose disk filled up leaves its shard shorter than the space it allocated: what is
       // missing was never committed, so it is an orphan, and repair extends the file.

@@ -2,7 +2,11 @@
 // damaged — the shard file and the records table of the one path whose chunk was hit, or the
 // catalogue — and leaves everything else readable and equal to what was committed. `--repair`
 // removes orphans only: it never changes or hides damaged committed data (it still reports it).
+// An orphan HDF5 cannot unlink (its own header damaged, as a kill in mid-write leaves it) is removed
+// by rewriting the shard without it.
 #include <gtest/gtest.h>
+
+#include <hdf5.h>
 
 #include <cstring>
 #include <fstream>
@@ -63,6 +67,63 @@ TEST_F(LibraryFaults, CorruptedCataloguePageIsReportedNamingTheCatalogue) {
   EXPECT_NE((o.out + o.err).find(catalogue.string()), std::string::npos) << o.out << o.err;
   // Nothing is reported clean: either the catalogue cannot be read, or its check lists the damage.
   EXPECT_EQ(o.out.find("0 orphans, 0 inconsistencies"), std::string::npos) << o.out;
+}
+
+// Overwrites the signature of the object header of `object` in the HDF5 `file` (no handle open).
+void corrupt_object_header(const fs::path& file, const std::string& object) {
+  H5O_info_t info{};
+  const hid_t id = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  ASSERT_GE(id, 0);
+  const herr_t got = H5Oget_info_by_name2(id, object.c_str(), &info, H5O_INFO_BASIC, H5P_DEFAULT);
+  H5Fclose(id);
+  ASSERT_GE(got, 0);
+  std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+  f.seekp(static_cast<std::streamoff>(info.addr));
+  f.write("XXXX", 4);
+}
+
+TEST_F(LibraryFaults, OrphanGroupWithDamagedHeaderIsRemovedByRewritingTheShard) {
+  const fs::path lib = fresh_library("lib", true);
+  const fs::path shard = lib / "shards" / "rank0.h5";
+  std::int64_t pending = 0;
+  {  // a registered path whose start a kill interrupted: its group linked, its header garbage
+    db::Library opened = db::Library::open(lib);
+    pending = opened.catalogue().insert_path(1, R"({"segments": []})", opened.parameter_hash());
+    db::ShardWriter writer(opened, "rank0");
+    writer.shard().create_path(pending);
+    writer.shard().flush();
+  }
+  corrupt_object_header(shard, db::Shard::path_group(pending));
+
+  {  // the writer cannot remove it in place: it names the repair and loses nothing
+    db::Library opened = db::Library::open(lib);
+    db::ShardWriter writer(opened, "rank0");
+    try {
+      writer.start_path(pending);
+      ADD_FAILURE() << "a damaged leftover group was removed in place";
+    } catch (const db::StoreError& e) {
+      EXPECT_NE(std::string(e.what()).find("celldb verify " + lib.string() + " --repair"), std::string::npos) << e.what();
+    }
+  }
+  const Verification found = celldb_verify(lib, false, here_.path());
+  EXPECT_EQ(found.exit_code, 1);
+  ASSERT_EQ(found.report["findings"].size(), 1u) << found.report.dump(1);
+  EXPECT_EQ(found.report["findings"][0]["kind"], "orphan");
+  EXPECT_EQ(found.report["findings"][0]["object"], db::Shard::path_group(pending));
+
+  const Verification repaired = celldb_verify(lib, true, here_.path());
+  EXPECT_EQ(repaired.exit_code, 0) << repaired.report.dump(1);
+  EXPECT_TRUE(repaired.report["findings"][0]["repaired"].get<bool>()) << repaired.report.dump(1);
+  const Verification after = celldb_verify(lib, false, here_.path());
+  EXPECT_TRUE(after.report["findings"].empty()) << after.report.dump(1);
+  EXPECT_EQ(after.report["checked"]["snapshots"], found.report["checked"]["snapshots"]);
+  EXPECT_FALSE(fs::exists(lib / "shards" / "rank0.repair.h5"));
+
+  db::Library opened = db::Library::open(lib);
+  for (const auto& [id, records] : *reference_) EXPECT_EQ(opened.records(id), records) << "path " << id;
+  EXPECT_NO_THROW(opened.template_cell(1));
+  db::ShardWriter writer(opened, "rank0");
+  EXPECT_NO_THROW(writer.start_path(pending));
 }
 
 }  // namespace
