@@ -10,8 +10,11 @@ namespace grainbank::db {
 namespace {
 
 constexpr const char* kFormat = "grainbank-shard-1";
-// 256 rows × 37 doubles ≈ 76 kB per chunk: appends of a few records stay cheap, reads stay large.
-constexpr hsize_t kChunkRows = 256;
+// One record per chunk: a chunk holding committed records is never written again. With 256 rows per
+// chunk, each append rewrote the last, partly committed chunk, and a SIGKILL during that write left
+// committed rows behind a failing checksum. Costs (celldb bench, 2e5 records): inserts 1.2e6 -> 3e5
+// records/s, index build 0.17 -> 0.56 s; both far from what DEM sampling or an MPM start notices.
+constexpr hsize_t kChunkRows = 1;
 
 std::int64_t parse_id(const h5::Object& where, const std::string& name) {
   try {
