@@ -5,7 +5,11 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <hdf5.h>
+
+#include <fstream>
 #include <functional>
+#include <iterator>
 
 #include "store/verify.hpp"
 #include "store_test_util.hpp"
@@ -146,6 +150,48 @@ TEST_F(CrashRecovery, VerifyReportsMissingCommittedDataAsInconsistency) {
   bool mentions_rows = false;
   for (const Finding& f : report.findings) mentions_rows |= f.message.find("7 rows but 10 committed") != std::string::npos;
   EXPECT_TRUE(mentions_rows);
+}
+
+// File address, size and bytes of the chunk holding row `row` of a path's records table.
+struct StoredChunk {
+  haddr_t address = 0;
+  hsize_t size = 0;
+  std::string bytes;
+  bool operator==(const StoredChunk&) const = default;
+};
+
+StoredChunk stored_chunk(const std::filesystem::path& file, std::int64_t path_id, hsize_t row) {
+  StoredChunk chunk;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t d = H5Dopen2(f, (Shard::path_group(path_id) + "/records").c_str(), H5P_DEFAULT);
+  const hsize_t offset[2] = {row, 0};
+  unsigned filter_mask = 0;
+  EXPECT_GE(H5Dget_chunk_info_by_coord(d, offset, &filter_mask, &chunk.address, &chunk.size), 0);
+  H5Dclose(d);
+  H5Fclose(f);
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(chunk.address));
+  chunk.bytes.resize(chunk.size);
+  in.read(chunk.bytes.data(), static_cast<std::streamsize>(chunk.size));
+  return chunk;
+}
+
+// A writer killed while it writes can tear that write (the kernel stops a large write between pages
+// on SIGKILL). Appends therefore never write to a chunk that holds committed records: their chunks
+// keep their place and their bytes, checksum included.
+TEST_F(CrashRecovery, AppendsNeverRewriteTheChunksOfCommittedRecords) {
+  const std::filesystem::path shard = lib() / "shards" / "rank0.h5";
+  const auto rows = static_cast<hsize_t>(committed_.size());
+  std::vector<StoredChunk> before;
+  for (hsize_t row = 0; row < rows; ++row) before.push_back(stored_chunk(shard, path_id_, row));
+  {
+    Library library = Library::open(lib(), material_);
+    ShardWriter writer(library, "rank0");
+    writer.append_records(path_id_, {sample_record(30)});
+    writer.append_records(path_id_, {sample_record(31), sample_record(32)});
+  }
+  for (hsize_t row = 0; row < rows; ++row) EXPECT_EQ(stored_chunk(shard, path_id_, row), before[row]) << "row " << row;
+  EXPECT_NE(stored_chunk(shard, path_id_, rows).address, before.back().address);
 }
 
 }  // namespace
