@@ -138,10 +138,17 @@ void LibraryLaw::advance_live(Point& p, const Mat2& F_inc, double dt, PointStres
   }
 }
 
-void LibraryLaw::restore_point(std::size_t slot, const Mat2& F, double damage, std::optional<dem::CellState> cell) {
+LibraryLaw::CarriedState LibraryLaw::carried_state(std::size_t slot) const {
+  const Point& p = points_[slot];
+  return CarriedState{p.F, p.damage, p.steps_inside, p.history};
+}
+
+void LibraryLaw::restore_point(std::size_t slot, CarriedState state, std::optional<dem::CellState> cell) {
   Point& p = points_[slot];
-  p.F = F;
-  p.damage = damage;
+  p.F = state.F;
+  p.damage = state.damage;
+  p.steps_inside = state.steps_inside;
+  p.history = std::move(state.history);
   if (p.cell) --live_points_;
   p.cell.reset();
   if (!cell) return;

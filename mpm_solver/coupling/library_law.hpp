@@ -67,9 +67,17 @@ class LibraryLaw : public ConstitutiveLaw {
   // The point's F as the law composed it from its increments.
   const Mat2& deformation_gradient(std::size_t slot) const { return points_[slot].F; }
   const LibraryLink& link() const { return *link_; }
-  // Restart files: the point continues with this F, damage and (when live) cell. A restored live
-  // point starts a new enriched path; its replay history is not restored (see README).
-  void restore_point(std::size_t slot, const Mat2& F, double damage, std::optional<dem::CellState> cell);
+  // What a point carries from step to step besides its stress and cell, for restart files.
+  struct CarriedState {
+    Mat2 F = Mat2::Identity();
+    double damage = 0;
+    int steps_inside = 0;                    // live: consecutive steps within the tolerance
+    std::vector<RecordedIncrement> history;  // replay: every increment since the start
+  };
+  CarriedState carried_state(std::size_t slot) const;
+  // The point continues with this state and (when live) cell, as in the run that saved them. A
+  // restored live point starts a new enriched path.
+  void restore_point(std::size_t slot, CarriedState state, std::optional<dem::CellState> cell);
   const Enrichment* enrichment() const { return enrichment_.get(); }
 
  private:

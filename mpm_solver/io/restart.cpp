@@ -1,5 +1,6 @@
 #include "restart.hpp"
 
+#include <map>
 #include <stdexcept>
 #include <string>
 
@@ -49,9 +50,12 @@ std::string cell_group(std::size_t law, std::size_t slot) {
   return "law_" + std::to_string(law) + "_cell_" + std::to_string(slot);
 }
 
-// Per point of a cache/hybrid law: slot, F (4), damage, live (0/1); live cells as cell groups.
-constexpr hsize_t kLibraryColumns = 7;
+// Per point of a cache/hybrid law: slot, F (4), damage, live (0/1), steps inside the tolerance;
+// live cells as cell groups; the replay histories as rows slot, F_inc (4), dt, in step order.
+constexpr hsize_t kLibraryColumns = 8;
+constexpr hsize_t kHistoryColumns = 6;
 std::string library_points(std::size_t law) { return "law_" + std::to_string(law) + "_library_points"; }
+std::string replay_history(std::size_t law) { return "law_" + std::to_string(law) + "_replay_history"; }
 
 void write_contents(const h5::Object& root, const Solver& solver) {
   h5::write_attribute(root, "time", solver.time());
@@ -74,16 +78,21 @@ void write_contents(const h5::Object& root, const Solver& solver) {
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
     const auto* law = dynamic_cast<const LibraryLaw*>(&solver.law(k));
     if (!law) continue;
-    std::vector<double> rows;
+    std::vector<double> rows, history;
     for (const MaterialPoint& mp : solver.points()) {
       if (mp.law != k) continue;
-      const Mat2& F = law->deformation_gradient(mp.slot);
+      const LibraryLaw::CarriedState state = law->carried_state(mp.slot);
+      const Mat2& F = state.F;
       const dem::DemCell* cell = law->live_cell(mp.slot);
-      rows.insert(rows.end(), {double(mp.slot), F(0, 0), F(0, 1), F(1, 0), F(1, 1), law->damage(mp.slot), cell ? 1.0 : 0.0});
+      rows.insert(rows.end(), {double(mp.slot), F(0, 0), F(0, 1), F(1, 0), F(1, 1), state.damage, cell ? 1.0 : 0.0,
+                               double(state.steps_inside)});
+      for (const RecordedIncrement& r : state.history)
+        history.insert(history.end(), {double(mp.slot), r.F_inc(0, 0), r.F_inc(0, 1), r.F_inc(1, 0), r.F_inc(1, 1), r.dt});
       if (cell)
         db::write_cell_state(h5::create_group(root, cell_group(k, mp.slot)), db::StoredCell{cell->state(), cell->skin()});
     }
     h5::write_array(root, library_points(k), rows, kLibraryColumns);
+    h5::write_array(root, replay_history(k), history, kHistoryColumns);
   }
 }
 
@@ -126,13 +135,23 @@ void read_restart(const std::filesystem::path& file, Solver& solver) {
     auto* law = dynamic_cast<LibraryLaw*>(&solver.law(k));
     if (!law) continue;
     const std::vector<double> rows = h5::read_array<double>(root, library_points(k), kLibraryColumns);
+    std::map<std::size_t, std::vector<RecordedIncrement>> histories;
+    const std::vector<double> history = h5::read_array<double>(root, replay_history(k), kHistoryColumns);
+    for (std::size_t r = 0; r < history.size(); r += kHistoryColumns) {
+      RecordedIncrement increment{Mat2::Identity(), history[r + 5]};
+      increment.F_inc << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
+      histories[static_cast<std::size_t>(history[r])].push_back(increment);
+    }
     for (std::size_t r = 0; r < rows.size(); r += kLibraryColumns) {
       const auto slot = static_cast<std::size_t>(rows[r]);
-      Mat2 F;
-      F << rows[r + 1], rows[r + 2], rows[r + 3], rows[r + 4];
+      LibraryLaw::CarriedState state;
+      state.F << rows[r + 1], rows[r + 2], rows[r + 3], rows[r + 4];
+      state.damage = rows[r + 5];
+      state.steps_inside = static_cast<int>(rows[r + 7]);
+      state.history = std::move(histories[slot]);
       std::optional<dem::CellState> cell;
       if (rows[r + 6] != 0) cell = db::read_cell_state(h5::open_group(root, cell_group(k, slot))).state;
-      law->restore_point(slot, F, rows[r + 5], std::move(cell));
+      law->restore_point(slot, std::move(state), std::move(cell));
     }
   }
   try {

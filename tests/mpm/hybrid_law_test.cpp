@@ -155,5 +155,70 @@ TEST_F(MissingPoint, ReplayRebuildsTheCellALivePointWouldOwn) {
   EXPECT_EQ(cell->measures().stress, reference.cell(0).measures().stress);
 }
 
+// Restart files of a LibraryLaw point driven directly (outside the MPM step, so its increments are
+// the fixture's): `steps` increments, then a restart, then the rest in a law rebuilt from the file.
+class RestartedPoint : public MissingPoint {
+ protected:
+  Solver solver_with_one_point(const LibraryLawSettings& settings) const {
+    Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
+    solver.add_law(library_law(dir_, id_, settings));
+    solver.add_point(0, Vec2(0.3, 0.3), 0.0025, 0.025, Vec2::Zero());
+    return solver;
+  }
+  static LibraryLaw& law_of(Solver& solver) { return dynamic_cast<LibraryLaw&>(solver.law(0)); }
+  // The solver whose law went through `increments` with a restart after the first `before_restart`.
+  Solver resumed_after(const LibraryLawSettings& settings, const std::vector<Mat2>& increments,
+                       std::size_t before_restart) const {
+    Solver first = solver_with_one_point(settings);
+    PointStress s;
+    for (std::size_t k = 0; k < before_restart; ++k) law_of(first).update(0, increments[k], kDt, s);
+    const auto file = dir_ / "restart.h5";
+    io::write_restart(file, first);
+    Solver resumed = solver_with_one_point(settings);
+    io::read_restart(file, resumed);
+    for (std::size_t k = before_restart; k < increments.size(); ++k) law_of(resumed).update(0, increments[k], kDt, s);
+    return resumed;
+  }
+};
+
+TEST_F(RestartedPoint, KeepsTheReplayHistory) {
+  const LibraryLawSettings settings = coupling_settings(Fallback::replay, false);
+  auto uninterrupted = library_law(dir_, id_, settings);
+  drive(*uninterrupted);
+  Solver resumed = resumed_after(settings, increments_, 14);  // restarted among the hits
+  const LibraryLaw& law = law_of(resumed);
+  EXPECT_EQ(law.counters().warm_start_increments, 14u);  // all 14 replayed, not only those since the restart
+  const dem::DemCell *cell = law.live_cell(0), *expected = uninterrupted->live_cell(0);
+  ASSERT_NE(cell, nullptr);
+  ASSERT_NE(expected, nullptr);
+  EXPECT_EQ(cell->time(), expected->time());
+  EXPECT_EQ(cell->cell_matrix(), expected->cell_matrix());
+  EXPECT_EQ(cell->measures().stress, expected->measures().stress);
+}
+
+TEST_F(RestartedPoint, KeepsTheCountOfLiveStepsBackInsideTheTolerance) {
+  LibraryLawSettings settings = coupling_settings(Fallback::warm_start, false);
+  settings.return_after = 3;
+  // 14 hits, off the path (live), back onto it (F as after 14), then 3 increments along it.
+  std::vector<Mat2> increments(increments_.begin(), increments_.begin() + 15);
+  increments.push_back(compression_.inverse());
+  for (int k = 0; k < 3; ++k) increments.push_back(shear_);
+  auto uninterrupted = library_law(dir_, id_, settings);
+  PointStress s;
+  const std::size_t slot = uninterrupted->add_point(s);
+  std::vector<bool> live;
+  for (const Mat2& inc : increments) {
+    uninterrupted->update(slot, inc, kDt, s);
+    live.push_back(uninterrupted->live_cell(slot) != nullptr);
+  }
+  ASSERT_FALSE(live[13]);
+  ASSERT_TRUE(live[14] && live[17]) << "the set-up must turn the point live and keep it live";
+  ASSERT_FALSE(live.back()) << "the set-up must bring the point back to the cache";
+  // Restarted after 2 of the 3 steps back inside: the third returns it to the cache, as without restart.
+  Solver resumed = resumed_after(settings, increments, increments.size() - 1);
+  EXPECT_EQ(law_of(resumed).live_cell(0), nullptr);
+  EXPECT_EQ(law_of(resumed).counters().returned_to_cache, 1u);
+}
+
 }  // namespace
 }  // namespace grainbank::mpm
