@@ -1,10 +1,12 @@
 """The accuracy-versus-time study (workflows/accuracy_vs_time/study.py) in its smoke version: the
-tiny column, live reference and two variants; table, Pareto plot and study JSON; resumed with a run
-left out."""
+tiny column, live reference, two variants and a hybrid run on a library the study enriched with the
+scene's own states; table, Pareto plot and study JSON; resumed with a run left out."""
 import csv
 import math
 
 from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+
+from plotting import tables
 
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", "front_rel_err", "stress_rel_l2",
            "deposit_rms_m", "failed"]
@@ -16,13 +18,17 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
-        self.assertEqual(sorted(rows), ["hybrid", "live", "q_sigma_0.5"])
+        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "q_sigma_0.5"])
         self.assertEqual(list(rows["live"]), COLUMNS)
         # The reference against itself has no error; the variants are different runs of the same scene.
         for key in ("front_rel_err", "stress_rel_l2", "deposit_rms_m"):
             self.assertEqual(float(rows["live"][key]), 0.0)
         self.assertGreater(float(rows["q_sigma_0.5"]["stress_rel_l2"]), 0.0)
         self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
+        # Hybrid on the bare template turns every point live at its first step: the live law to round-off.
+        self.assertLess(float(rows["enriching"]["stress_rel_l2"]), 1e-9)
+        # The run after it finds the states it stored.
+        self.assertGreater(sum(tables.read_csv(self.out / "runs" / "hybrid_enriched" / "series.csv")["hits"]), 0)
         for r in rows.values():
             self.assertTrue(float(r["cpu_s"]) > 0 and float(r["wall_s"]) > 0)
             self.assertTrue(all(math.isfinite(float(r[k])) for k in COLUMNS[6:-1]))
@@ -32,7 +38,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertTrue(markdown[0].startswith("| run | knob |"))
         self.assert_png(self.out / "pareto.png")
         study = self.assert_json_fields(self.out / "study.json", ["variants", "library_cost", "runs"])
-        self.assertEqual(len(study["runs"]), 3)
+        self.assertEqual(len(study["runs"]), 5)
         for run_name in rows:
             self.assert_run(self.out / "runs" / run_name, end_time=0.003, points=4)
 
@@ -41,5 +47,5 @@ class AccuracyVsTimeTest(WorkflowTest):
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1", "--skip", "q_sigma_0.5"])
         with (self.out / "results.csv").open() as f:
-            self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)), ["hybrid", "live"])
+            self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)), ["enriching", "hybrid", "hybrid_enriched", "live"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)

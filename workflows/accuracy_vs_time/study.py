@@ -2,12 +2,14 @@
 """Accuracy versus time on a column collapse: the scene with `live` as reference and every knob that
 trades accuracy for time (variants.py), error against wall and CPU time as a Pareto plot and a table.
 
-  study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|smoke]
+  study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|enriched|smoke]
                [--skip RUN,RUN] [--end T] [--threads N] [--build DIR]
 
 Defaults: the demo's column (workflows/demo/column.json), its soft snow cell and library paths. The
 library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
-by every library run. Runs already finished in OUT/runs/ are kept (delete them to rerun).
+by every library run. Runs on the scene's own library (variants.py, "enriched") use OUT/lib_enriched:
+the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
+Runs already finished in OUT/runs/ are kept (delete them to rerun).
 Errors against the reference, at their common output times: front = worst relative runout error
 (rows with a reference runout above 1 cm), stress = mean relative L2 of the in-plane stress field
 (points matched by id, by nearest position when the discretisation differs), deposit = RMS difference
@@ -19,6 +21,7 @@ import argparse
 import json
 import math
 import os
+import shutil
 import sys
 from pathlib import Path
 
@@ -39,6 +42,15 @@ def build_library(args, build):
     wall, cpu = timed([dem_sampler, "prepare", args.cell, "--library", library])
     w, c = timed([dem_sampler, "sample", args.paths, "--library", library, "--threads", args.threads])
     return library, {"wall_s": wall + w, "cpu_s": cpu + c}
+
+
+def prepare_enriched_library(args, build):
+    library, enriching = args.out / "lib_enriched", args.out / "runs" / "enriching"
+    if not (enriching / "study_run.json").exists():  # a library enriched by an unfinished run is no reference
+        shutil.rmtree(library, ignore_errors=True)
+        shutil.rmtree(enriching, ignore_errors=True)
+    timed([build / "dem_sampler" / "dem_sampler", "prepare", args.cell, "--library", library])
+    return library
 
 
 def scene_of(name, spec, base, library, args):
@@ -117,13 +129,19 @@ def main():
     if unknown:
         parser.error(f"--skip: expected runs of the set other than the reference live, got {', '.join(unknown)}")
     chosen = {name: spec for name, spec in chosen.items() if name not in skipped}
+    for library, builder in variants.NEEDS.items():
+        if any(spec.get("library") == library for spec in chosen.values()) and builder not in chosen:
+            parser.error(f"--skip: the runs on the {library} library need the run {builder}")
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build if args.build.is_absolute() else WORKFLOWS.parent / args.build
     library, library_cost = build_library(args, build)
+    libraries = {"generic": library}
+    if any(spec.get("library") == "enriched" for spec in chosen.values()):
+        libraries["enriched"] = prepare_enriched_library(args, build)
     base = scenes.load(args.scene)
     costs = {}
     for name, spec in chosen.items():
-        costs[name] = run(name, scene_of(name, spec, base, library, args), build, args)
+        costs[name] = run(name, scene_of(name, spec, base, libraries[spec.get("library", "generic")], args), build, args)
         print(f"{name}: {costs[name]['wall_s']:.1f} s wall, {costs[name]['cpu_s']:.1f} s CPU", flush=True)
     reference = args.out / "runs" / "live"
     rows = []

@@ -14,7 +14,7 @@ def hybrid(start="warm_start", return_after=10, **lookup_keys):
     return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after}, "enrich": False}
 
 
-# name: {"knob", "value", "law", "material", "cell_spheres", "grid_factor"}
+# name: {"knob", "value", "law", "material", "cell_spheres", "grid_factor", "library": "enriched"}
 FULL = {
     "live": {"knob": "reference", "value": "live", "law": "live"},
     "q_t_0.2": {"knob": "Q_t", "value": 0.2, "law": "live", "material": {"substepping": {"q_t": 0.2}}},
@@ -33,11 +33,24 @@ FULL = {
     "hybrid_k_8": {"knob": "lookup k", "value": 8, "law": "hybrid", "material": hybrid(k=8)},
     "hybrid_replay": {"knob": "fallback start", "value": "replay", "law": "hybrid", "material": hybrid(start="replay")},
     "cache": {"knob": "cache only", "value": "", "law": "cache", "material": lookup()},
+    # A library of this scene's own states: the second run of a scene (a re-run, a parameter study).
+    # `enriching` builds it (hybrid on the bare template: every point live from its first step, the
+    # live law to round-off); the runs after it look up in it.
+    "enriching": {"knob": "library of this scene", "value": "building it", "law": "hybrid", "library": "enriched",
+                  "material": {**lookup(), "fallback": {"start": "warm_start", "return_after": 0}, "enrich": True}},
+    "hybrid_enriched": {"knob": "library of this scene", "value": "hybrid, tolerance 10", "law": "hybrid",
+                        "library": "enriched", "material": hybrid(tolerance=10.0, return_after=5)},
+    "cache_enriched": {"knob": "library of this scene", "value": "cache", "law": "cache", "library": "enriched",
+                       "material": lookup()},
     # Last: the finer grid has 4x the points, the costliest run; an interrupted study has the rest.
     "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
     "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
 }
-# The CI smoke test: the reference and two variants.
-SMOKE = {name: FULL[name] for name in ("live", "q_sigma_0.5", "hybrid")}
-SETS = {"full": FULL, "smoke": SMOKE, "reduced": {name: FULL[name] for name in
-                                                  ("live", "q_t_0.2", "q_sigma_0.5", "hybrid", "hybrid_tol_3", "hybrid_tol_10", "cache")}}
+# The CI smoke test: the reference, two variants and a run on the scene's own library.
+SMOKE = {name: FULL[name] for name in ("live", "q_sigma_0.5", "hybrid", "enriching", "hybrid_enriched")}
+REDUCED = {name: FULL[name] for name in ("live", "q_t_0.2", "q_sigma_0.5", "hybrid", "hybrid_tol_3", "hybrid_tol_10",
+                                         "cache")}
+ENRICHED = {name: FULL[name] for name in ("live", "hybrid", "enriching", "hybrid_enriched", "cache_enriched")}
+SETS = {"full": FULL, "smoke": SMOKE, "reduced": REDUCED, "enriched": ENRICHED}
+# Runs that need an earlier run of the set: the library they look up in is built by it.
+NEEDS = {"enriched": "enriching"}
