@@ -3,10 +3,16 @@ tiny column, live reference, two variants and a hybrid run on a library the stud
 scene's own states; table, Pareto plot and study JSON; resumed with a run left out."""
 import csv
 import math
+import shutil
+import sys
+import xml.etree.ElementTree as ET
 
 from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
 
-from plotting import tables
+from plotting import flow, tables, vtu
+
+sys.path.insert(0, str(WORKFLOWS / "accuracy_vs_time"))
+import study  # noqa: E402  (after the path set-up)
 
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", "front_rel_err", "stress_rel_l2",
            "deposit_rms_m", "failed"]
@@ -49,3 +55,29 @@ class AccuracyVsTimeTest(WorkflowTest):
         with (self.out / "results.csv").open() as f:
             self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)), ["enriching", "hybrid", "hybrid_enriched", "live"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)
+
+    def test_a_stopped_run_is_compared_up_to_its_stop(self):
+        # The reference alone, then a copy of it cut at t = 0.0015 s (what a run that stopped there
+        # leaves): compared at the times both reached, it has no error at all.
+        run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
+             "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1",
+             "--skip", "q_sigma_0.5,hybrid,enriching,hybrid_enriched"])
+        reference, stopped = self.out / "runs" / "live", self.out / "stopped"
+        shutil.copytree(reference, stopped)
+        stop = 0.0015
+        pvd = ET.parse(stopped / "points.pvd")
+        collection = pvd.getroot().find("Collection")
+        for dataset in list(collection):
+            if float(dataset.get("timestep")) > stop + 1e-12:
+                collection.remove(dataset)
+        pvd.write(stopped / "points.pvd")
+        lines = (stopped / "series.csv").read_text().splitlines()
+        kept = [lines[0]] + [line for line in lines[1:] if float(line.split(",")[0]) <= stop + 1e-12]
+        self.assertLess(len(kept), len(lines))
+        (stopped / "series.csv").write_text("\n".join(kept) + "\n")
+
+        errors = study.errors(stopped, reference)
+        self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "deposit_rms_m": 0.0})
+        # Not zero by accident: past the stop the reference's stress field still changes.
+        snapshots = {round(s.time, 9): s for s in vtu.read_run(reference)}
+        self.assertGreater(flow.stress_error(snapshots[max(snapshots)], snapshots[stop]), 0.0)
