@@ -15,6 +15,8 @@ namespace h5 = db::h5;
 
 namespace {
 
+// 2: points of cache/hybrid laws also carry their steps inside the tolerance and replay history.
+constexpr const char* kFormat = "grainbank-restart-2";
 constexpr hsize_t kColumns = 28;
 
 // id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz, pending
@@ -58,6 +60,7 @@ std::string library_points(std::size_t law) { return "law_" + std::to_string(law
 std::string replay_history(std::size_t law) { return "law_" + std::to_string(law) + "_replay_history"; }
 
 void write_contents(const h5::Object& root, const Solver& solver) {
+  h5::write_attribute(root, "format", std::string(kFormat));
   h5::write_attribute(root, "time", solver.time());
   h5::write_attribute(root, "steps", static_cast<std::int64_t>(solver.steps()));
   std::vector<double> rows;
@@ -114,6 +117,14 @@ void write_restart(const std::filesystem::path& file, const Solver& solver) {
 
 void read_restart(const std::filesystem::path& file, Solver& solver) {
   const h5::Object root = h5::open_file(file, false);
+  std::string format = "grainbank-restart-1";  // files of version 1 had no format attribute
+  try {
+    format = h5::read_string_attribute(root, "format");
+  } catch (const db::StoreError&) {
+  }
+  if (format != kFormat)
+    throw std::runtime_error(file.string() + ": restart format \"" + format + "\", expected \"" + kFormat +
+                             "\": written by another grainbank version; rerun from the start");
   const std::vector<double> rows = h5::read_array<double>(root, "points", kColumns);
   std::vector<MaterialPoint> points;
   for (std::size_t k = 0; k < rows.size() / kColumns; ++k) {

@@ -1,6 +1,7 @@
 // A run interrupted by a restart file (written, then read into a solver rebuilt from the same scene)
 // continues exactly like the uninterrupted run: points, live DEM cells and obstacle friction history.
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include <filesystem>
 
@@ -58,6 +59,33 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
   double friction = 0;
   for (double f : reference.obstacles()[0].tangential_history()) friction = std::max(friction, std::abs(f));
   EXPECT_GT(friction, 0);
+}
+
+// A restart file of another format version (here: version 1, which had no format attribute) is
+// refused before anything is restored, naming the file, both versions and what to do.
+TEST(Restart, FileOfAnotherVersionIsRefused) {
+  const dem::DemCell cell = small_cell();
+  Solver first = build(cell);
+  first.step(1e-4);
+  const auto file = std::filesystem::temp_directory_path() / "gb_mpm_restart_version_test.h5";
+  std::filesystem::remove(file);
+  io::write_restart(file, first);
+  const hid_t h5 = H5Fopen(file.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  ASSERT_GE(h5, 0);
+  ASSERT_GE(H5Adelete(h5, "format"), 0);
+  H5Fclose(h5);
+  Solver resumed = build(cell);
+  try {
+    io::read_restart(file, resumed);
+    ADD_FAILURE() << "a version 1 restart file was read";
+  } catch (const std::runtime_error& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find(file.string()), std::string::npos) << message;
+    EXPECT_NE(message.find("\"grainbank-restart-1\", expected \"grainbank-restart-2\""), std::string::npos) << message;
+    EXPECT_NE(message.find("rerun from the start"), std::string::npos) << message;
+  }
+  EXPECT_EQ(resumed.time(), 0.0);
+  std::filesystem::remove(file);
 }
 
 }  // namespace
