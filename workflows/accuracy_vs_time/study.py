@@ -129,14 +129,14 @@ def main():
     if unknown:
         parser.error(f"--skip: expected runs of the set other than the reference live, got {', '.join(unknown)}")
     chosen = {name: spec for name, spec in chosen.items() if name not in skipped}
-    for library, builder in variants.NEEDS.items():
-        if any(spec.get("library") == library for spec in chosen.values()) and builder not in chosen:
-            parser.error(f"--skip: the runs on the {library} library need the run {builder}")
+    on_enriched = any(spec.get("library") == "enriched" for spec in chosen.values())
+    if on_enriched and "enriching" not in chosen:
+        parser.error("--skip: the runs on the enriched library need the run enriching, which builds it")
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build if args.build.is_absolute() else WORKFLOWS.parent / args.build
     library, library_cost = build_library(args, build)
     libraries = {"generic": library}
-    if any(spec.get("library") == "enriched" for spec in chosen.values()):
+    if on_enriched:
         libraries["enriched"] = prepare_enriched_library(args, build)
     base = scenes.load(args.scene)
     costs = {}

@@ -52,5 +52,3 @@ REDUCED = {name: FULL[name] for name in ("live", "q_t_0.2", "q_sigma_0.5", "hybr
                                          "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", "hybrid", "enriching", "hybrid_enriched", "cache_enriched")}
 SETS = {"full": FULL, "smoke": SMOKE, "reduced": REDUCED, "enriched": ENRICHED}
-# Runs that need an earlier run of the set: the library they look up in is built by it.
-NEEDS = {"enriched": "enriching"}
