@@ -24,10 +24,13 @@ std::vector<StepComparison> rerun(const io::PointTrail& point, const ReferenceSl
   std::vector<StepComparison> steps;
   steps.reserve(point.steps.size());
   PointStress live;
+  Mat2 F = Mat2::Identity();
   for (std::size_t k = 0; k < point.steps.size(); ++k) {
     const io::TrailStep& s = point.steps[k];
     try {
-      reference.law->update(reference.slot, io::step_increment(s), s.dt, live);
+      const KinematicIncrement increment = io::step_increment(s);
+      F = increment.F * F;
+      reference.law->update(reference.slot, increment, F, live);
     } catch (const std::exception& e) {
       throw std::runtime_error("audit: the live cell of point " + std::to_string(point.id) + " failed at step " +
                                std::to_string(k) + " (t = " + std::to_string(s.time) + " s): " + e.what());

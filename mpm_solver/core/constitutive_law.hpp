@@ -7,6 +7,7 @@
 #include <string>
 
 #include "coupling_status.hpp"
+#include "kinematic_increment.hpp"
 #include "types.hpp"
 
 namespace grainbank::dem {
@@ -26,16 +27,19 @@ class ConstitutiveLaw {
   // Creates the state of one more point and returns its slot and initial stress.
   virtual std::size_t add_point(PointStress& initial_stress) = 0;
 
-  // Drives point `slot` through the in-plane deformation increment F_inc (plane strain: ε_zz = 0)
-  // over dt and replaces `stress` by the new Cauchy stress (tension-positive).
-  virtual void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) = 0;
+  // Drives point `slot` through `increment`, the in-plane motion since the law's last call of this
+  // slot (plane strain: ε_zz = 0), after which the point's deformation gradient is F; replaces
+  // `stress` by the new Cauchy stress (tension-positive). The increment may span several MPM steps
+  // (SolverSettings::skip_increment): its dt is all the time they took.
+  virtual void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) = 0;
 
   // Current volume over initial volume of the point; F is its in-plane deformation gradient.
   virtual double volume_ratio(std::size_t /*slot*/, const Mat2& F) const { return F.determinant(); }
   // P-wave modulus M = K + 4G/3 [Pa] for the CFL condition, c = sqrt(M / ρ).
   virtual double p_wave_modulus(std::size_t slot) const = 0;
-  // Largest MPM time step the law itself allows at velocity gradient L (seed Eq. 4 for DEM cells).
-  virtual double time_step_limit(std::size_t /*slot*/, const Mat2& /*L*/) const {
+  // Largest MPM time step the law itself allows for a point of deformation gradient F at velocity
+  // gradient L (seed Eq. 4 for DEM cells).
+  virtual double time_step_limit(std::size_t /*slot*/, const Mat2& /*F*/, const Mat2& /*L*/) const {
     return std::numeric_limits<double>::infinity();
   }
   // Seed Eq. 6 damage D of the point (0 for laws without bonds).
@@ -58,15 +62,5 @@ class ConstitutiveLaw {
   // after the last step; throws with context when that fails.
   virtual void finish() {}
 };
-
-// Small-strain increment and spin of an in-plane increment: F_inc = I + dε + dω.
-inline Mat2 strain_increment(const Mat2& F_inc) {
-  const Mat2 g = F_inc - Mat2::Identity();
-  return 0.5 * (g + g.transpose());
-}
-inline Mat2 spin_increment(const Mat2& F_inc) {
-  const Mat2 g = F_inc - Mat2::Identity();
-  return 0.5 * (g - g.transpose());
-}
 
 }  // namespace grainbank::mpm

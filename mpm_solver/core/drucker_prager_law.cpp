@@ -47,8 +47,8 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial) const {
   return out;
 }
 
-void DruckerPragerLaw::update(std::size_t, const Mat2& F_inc, double, PointStress& stress) {
-  stress = return_map(elastic_predictor(parameters_.elasticity, stress, F_inc));
+void DruckerPragerLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
+  stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment));
 }
 
 }  // namespace grainbank::mpm

@@ -23,7 +23,7 @@ class DruckerPragerLaw : public ConstitutiveLaw {
   std::string name() const override { return "drucker_prager"; }
   double density() const override { return density_; }
   std::size_t add_point(PointStress& initial_stress) override;
-  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double p_wave_modulus(std::size_t) const override { return parameters_.elasticity.p_wave_modulus(); }
 
   // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense above.

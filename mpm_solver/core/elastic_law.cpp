@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <Eigen/Geometry>
+
 namespace grainbank::mpm {
 
 void check(const Elasticity& e) {
@@ -13,13 +15,15 @@ void check(const Elasticity& e) {
     throw std::invalid_argument("poisson: expected a number in (-1, 0.5), got " + std::to_string(e.poisson));
 }
 
-PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const Mat2& F_inc) {
-  const Mat2 de = strain_increment(F_inc), dw = spin_increment(F_inc);
+PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const KinematicIncrement& increment) {
+  const Mat2 de = increment.strain();
   const double lambda = e.lame_lambda(), two_g = 2 * e.shear_modulus();
   const double volumetric = lambda * de.trace();
+  // The Jaumann term σ̇ = W σ - σ W integrated exactly over the increment (W constant): the stress
+  // turns by R = exp(W dt), keeping its invariants, however many steps a skipped increment spans.
+  const Mat2 R = Eigen::Rotation2Dd(increment.spin()(1, 0)).toRotationMatrix();
   PointStress trial;
-  trial.in_plane = stress.in_plane + dw * stress.in_plane - stress.in_plane * dw + two_g * de +
-                   volumetric * Mat2::Identity();
+  trial.in_plane = R * stress.in_plane * R.transpose() + two_g * de + volumetric * Mat2::Identity();
   trial.zz = stress.zz + volumetric;  // plane strain: dε_zz = 0
   return trial;
 }
@@ -35,8 +39,8 @@ std::size_t ElasticLaw::add_point(PointStress& initial_stress) {
   return points_++;
 }
 
-void ElasticLaw::update(std::size_t, const Mat2& F_inc, double, PointStress& stress) {
-  stress = elastic_predictor(elasticity_, stress, F_inc);
+void ElasticLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
+  stress = elastic_predictor(elasticity_, stress, increment);
 }
 
 }  // namespace grainbank::mpm

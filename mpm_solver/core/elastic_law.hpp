@@ -1,6 +1,7 @@
 // Linear isotropic elasticity in plane strain, written in rate form (hypo-elastic, Jaumann rate):
-// σ ← σ + dω σ - σ dω + λ tr(dε) I + 2G dε with dε_zz = 0. The rotation term keeps a rigidly
-// rotating body stress-free of spurious stress; for small strains this is Hooke's law.
+// σ ← R σ Rᵀ + λ tr(dε) I + 2G dε with dε = sym(L) dt, dε_zz = 0 and R = exp(skew(L) dt). The
+// rotation keeps the stress of a rigidly rotating body turning with it, unchanged in magnitude; for
+// small strains this is Hooke's law.
 #pragma once
 #include <vector>
 
@@ -20,7 +21,7 @@ struct Elasticity {
 void check(const Elasticity& e);
 
 // The elastic trial stress after the increment F_inc (shared with the plastic laws).
-PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const Mat2& F_inc);
+PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const KinematicIncrement& increment);
 
 class ElasticLaw : public ConstitutiveLaw {
  public:
@@ -29,7 +30,7 @@ class ElasticLaw : public ConstitutiveLaw {
   std::string name() const override { return "elastic"; }
   double density() const override { return density_; }
   std::size_t add_point(PointStress& initial_stress) override;
-  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double p_wave_modulus(std::size_t) const override { return elasticity_.p_wave_modulus(); }
 
  private:

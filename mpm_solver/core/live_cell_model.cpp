@@ -39,15 +39,18 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
   min_diameter_ = 2 * *std::min_element(r.begin(), r.end());
 }
 
-dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const Mat2& F_inc, double dt) const {
-  return cell.advance(embed_plane_strain(F_inc), dt, settings_.substepping).stress;
+dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& increment) const {
+  return cell.advance(embed_plane_strain(increment.F), increment.dt, settings_.substepping).stress;
+}
+
+ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t) {
+  const double scale = solid_fraction * coordination / (std::numbers::pi * mean_radius);
+  return {scale * k_n / 6, scale * (2 * k_n + 3 * k_t) / 20};
 }
 
 double LiveCellModel::modulus(const dem::CellMeasures& m) const {
-  const double scale = m.solid_fraction * m.coordination / (std::numbers::pi * mean_radius_);
-  const double bulk = scale * material_.contact.k_n / 12;
-  const double shear = scale * (2 * material_.contact.k_n + 3 * material_.contact.k_t) / 60;
-  return bulk + 4 * shear / 3;
+  return voigt_moduli(m.solid_fraction, m.coordination, mean_radius_, material_.contact.k_n, material_.contact.k_t)
+      .p_wave();
 }
 
 double LiveCellModel::time_step_limit(const dem::Mat3& h, const Mat2& L) const {

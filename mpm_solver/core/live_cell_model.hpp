@@ -4,6 +4,7 @@
 // behaves exactly like a point of the live law.
 #pragma once
 #include "cell/dem_cell.hpp"
+#include "kinematic_increment.hpp"
 #include "types.hpp"
 
 namespace grainbank::mpm {
@@ -18,6 +19,17 @@ dem::Mat3 embed_plane_strain(const Mat2& F_inc);
 // The MPM momentum balance needs a symmetric stress; Love–Weber stress is symmetric only at
 // equilibrium of moments, so its symmetric part is taken (as the reference implementation does).
 PointStress plane_stress_of(const dem::Mat3& stress);
+
+// Effective-medium (Voigt, affine) moduli of a packing of spheres of mean radius R at solid fraction
+// φ and coordination Z whose pairs have normal and tangential stiffnesses k_n, k_t: every pair
+// follows the mean strain, so K = φ Z k_n / (6 π R) and G = φ Z (2 k_n + 3 k_t) / (20 π R) (on a
+// simple cubic lattice, K = k_n / (6R) exactly). Relaxation of the grains only softens a packing,
+// so the wave speed from these bounds the true one and the CFL step it gives is safe.
+struct ElasticModuli {
+  double bulk = 0, shear = 0;
+  double p_wave() const { return bulk + 4 * shear / 3; }
+};
+ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t);
 
 class LiveCellModel {
  public:
@@ -35,13 +47,12 @@ class LiveCellModel {
   dem::DemCell new_cell() const { return dem::DemCell(template_state_, material_, skin_); }
   dem::DemCell cell_from(dem::CellState state) const { return dem::DemCell(std::move(state), material_, skin_); }
 
-  // Drives the cell through the in-plane increment over dt; returns its regressed 3D stress
+  // Drives the cell through the in-plane increment; returns its regressed 3D stress
   // (plane_stress_of gives the MPM's part of it).
-  dem::Mat3 advance(dem::DemCell& cell, const Mat2& F_inc, double dt) const;
+  dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment) const;
 
-  // Voigt (affine) estimate of the cell's P-wave modulus from its current coordination and solid
-  // fraction: K = φ Z k_n / (12 π R), G = φ Z (2 k_n + 3 k_t) / (60 π R). An upper bound, so the CFL
-  // step it gives is safe.
+  // The cell's P-wave modulus M = K + 4G/3 for the CFL condition, from its current coordination and
+  // solid fraction (voigt_moduli with the full normal stiffness k_n of a bonded contact).
   double modulus(const dem::CellMeasures& m) const;
   // Seed Eq. 4 for a cell of matrix h at velocity gradient L: ḣ = L h moves by ≤ Q_h d_min per step.
   double time_step_limit(const dem::Mat3& h, const Mat2& L) const;

@@ -13,8 +13,8 @@ std::size_t LiveDemLaw::add_point(PointStress& initial_stress) {
   return cells_.size() - 1;
 }
 
-void LiveDemLaw::update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) {
-  stress = plane_stress_of(model_.advance(cells_[slot], F_inc, dt));
+void LiveDemLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
+  stress = plane_stress_of(model_.advance(cells_[slot], increment));
   measure(slot);
 }
 
@@ -33,7 +33,7 @@ double LiveDemLaw::volume_ratio(std::size_t slot, const Mat2&) const {
   return cells_[slot].volume() / model_.template_volume();
 }
 
-double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2& L) const {
+double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2&, const Mat2& L) const {
   return model_.time_step_limit(cells_[slot].cell_matrix(), L);
 }
 

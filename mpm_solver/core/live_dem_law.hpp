@@ -19,10 +19,10 @@ class LiveDemLaw : public ConstitutiveLaw {
   std::string name() const override { return "live"; }
   double density() const override { return model_.density(); }
   std::size_t add_point(PointStress& initial_stress) override;
-  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double volume_ratio(std::size_t slot, const Mat2& F) const override;
   double p_wave_modulus(std::size_t slot) const override { return modulus_[slot]; }
-  double time_step_limit(std::size_t slot, const Mat2& L) const override;
+  double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return damage_[slot]; }
   bool expensive() const override { return true; }
   StressSource source(std::size_t) const override { return StressSource::live; }

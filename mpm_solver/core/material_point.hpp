@@ -20,9 +20,11 @@ struct MaterialPoint {
   Vec2 external_force = Vec2::Zero();  // obstacle contact force of the current step [N/m]
   Mat2 deformation_gradient = Mat2::Identity();
   Mat2 velocity_gradient = Mat2::Zero();  // L of the last step
-  // Increments too small to be worth a constitutive call (SolverSettings::skip_strain_increment),
-  // composed until they add up to one that is; identity when nothing is pending.
+  // Motion too small to be worth a constitutive call (SolverSettings::skip_strain_increment): the
+  // increments of the skipped steps composed, and the time they took; identity and 0 when nothing
+  // is pending.
   Mat2 pending_increment = Mat2::Identity();
+  double pending_time = 0;
   PointStress stress;
 };
 

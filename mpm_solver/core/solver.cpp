@@ -7,8 +7,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <Eigen/Geometry>
-
 #include "parallel.hpp"
 
 namespace grainbank::mpm {
@@ -187,19 +185,24 @@ void Solver::update_stresses(double dt) {
     try {
       ConstitutiveLaw& law = *laws_[mp.law];
       mp.velocity_gradient = velocity_gradient(grid_, stencils_[p]);
-      const Mat2 increment = Mat2::Identity() + dt * mp.velocity_gradient;
-      mp.deformation_gradient = increment * mp.deformation_gradient;
-      const Mat2 pending = increment * mp.pending_increment;
-      if (skip > 0 && strain_increment(pending).norm() < skip) {
-        // Nothing worth a constitutive call happened: the stress only turns with the material. The
-        // law receives the composed increment later, so the deformation it sees is not lost.
-        const Eigen::Rotation2Dd spin(spin_increment(increment)(1, 0));
-        mp.stress.in_plane = spin.toRotationMatrix() * mp.stress.in_plane * spin.toRotationMatrix().transpose();
+      const KinematicIncrement step = KinematicIncrement::of_velocity_gradient(mp.velocity_gradient, dt);
+      mp.deformation_gradient = step.F * mp.deformation_gradient;
+      const Mat2 pending = step.F * mp.pending_increment;
+      const double pending_time = mp.pending_time + dt;
+      if (skip > 0 && (pending - Mat2::Identity()).norm() < skip &&
+          law.time_step_limit(mp.slot, mp.deformation_gradient, (pending - Mat2::Identity()) / pending_time) >=
+              pending_time) {
+        // Rotation counts in the criterion and the stress is held: a law receives every rotation
+        // once, in its own objective update, and a cell never moves faster than seed Eq. 4 allows.
         mp.pending_increment = pending;
+        mp.pending_time = pending_time;
         ++skipped;
       } else {
-        law.update(mp.slot, pending, dt, mp.stress);
+        const KinematicIncrement increment =
+            mp.pending_time == 0 ? step : KinematicIncrement::of_deformation(pending, pending_time);
+        law.update(mp.slot, increment, mp.deformation_gradient, mp.stress);
         mp.pending_increment.setIdentity();
+        mp.pending_time = 0;
       }
       mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
     } catch (const std::exception& e) {

@@ -22,8 +22,10 @@ struct SolverSettings {
   TimeStepFactors time_step;
   double max_time_step = std::numeric_limits<double>::infinity();
   int sort_interval = 20;         // re-sort points by cell every this many steps (memory locality)
-  // A point whose strain increment (composed over the steps it skipped) has a norm below this skips
-  // the constitutive call: its stress only turns with the spin. 0 = never skip.
+  // A point whose motion since its last constitutive call (the increments of the steps it skipped
+  // composed, stretch and rotation: |F_pending - I|) stays below this skips the call, and so does
+  // its stress, which lags the motion by at most this relative amount. The law later receives the
+  // whole pending motion with the time it took. 0 = never skip.
   double skip_strain_increment = 0;
   // When set, the whole domain is driven homogeneously (element tests); forces are then ignored.
   std::optional<HomogeneousDrive> homogeneous_drive;

@@ -20,7 +20,7 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
     const double density = mp.mass / mp.volume;
     max_signal = std::max(max_signal, std::sqrt(law.p_wave_modulus(mp.slot) / density) + mp.velocity.norm());
     min_mass = std::min(min_mass, mp.mass);
-    law_limit = std::min(law_limit, law.time_step_limit(mp.slot, mp.velocity_gradient));
+    law_limit = std::min(law_limit, law.time_step_limit(mp.slot, mp.deformation_gradient, mp.velocity_gradient));
   }
   TimeStepLimits limits;
   if (max_signal > 0) limits.wave = factors.cfl * grid.cell_size() / max_signal;

@@ -41,25 +41,22 @@ std::size_t LibraryLaw::add_point(PointStress& initial_stress) {
   return points_.size() - 1;
 }
 
-lookup::LookupAnswer LibraryLaw::ask(const Point& p, const Mat2& L) const {
+lookup::LookupAnswer LibraryLaw::ask(const Point& p, const Mat2& F, const Mat2& L) const {
   lookup::LookupState state;
-  state.F = embed_plane_strain(p.F);
+  state.F = embed_plane_strain(F);
   state.L.topLeftCorner<2, 2>() = L;
   state.damage = p.damage;
   return link_->index().query(state, settings_.lookup);
 }
 
-void LibraryLaw::update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) {
+void LibraryLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) {
   Point& p = points_[slot];
-  const Mat2 F_before = p.F;
-  p.F = F_inc * F_before;
-  if (settings_.fallback == Fallback::replay) p.history.push_back({F_inc, dt});
-  const Mat2 L = (F_inc - Mat2::Identity()) / dt;
+  if (settings_.fallback == Fallback::replay) p.history.push_back(increment);
 
   if (p.cell) {
-    advance_live(p, F_inc, dt, stress);
+    advance_live(p, increment, stress);
     if (settings_.return_after > 0) {
-      const lookup::LookupAnswer answer = ask(p, L);
+      const lookup::LookupAnswer answer = ask(p, F, increment.L);
       p.steps_inside = answer.hit ? p.steps_inside + 1 : 0;
       if (p.steps_inside >= settings_.return_after) {
         if (p.path.open()) enrichment_->finish(p.path);
@@ -72,11 +69,11 @@ void LibraryLaw::update(std::size_t slot, const Mat2& F_inc, double dt, PointStr
     return;
   }
 
-  const lookup::LookupAnswer answer = ask(p, L);
+  const lookup::LookupAnswer answer = ask(p, F, increment.L);
   if (!answer.hit && settings_.fallback != Fallback::none) {
     ++p.counters.misses;
-    go_live(slot, p, F_before, answer, dt);
-    advance_live(p, F_inc, dt, stress);
+    go_live(slot, p, increment.F.inverse() * F, answer, increment.dt);
+    advance_live(p, increment, stress);
     return;
   }
   ++(answer.hit ? p.counters.hits : p.counters.misses);
@@ -103,7 +100,7 @@ void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const
   long increments = 0;
   if (settings_.fallback == Fallback::replay) {
     // The history already holds this step's increment, which advance_live applies.
-    const std::vector<RecordedIncrement> before(p.history.begin(), p.history.end() - 1);
+    const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
     increments = replay(*p.cell, before, model_);
     origin["start"] = "replay";
   } else {
@@ -120,8 +117,8 @@ void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const
   p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-void LibraryLaw::advance_live(Point& p, const Mat2& F_inc, double dt, PointStress& stress) {
-  const dem::Mat3 sigma = model_.advance(*p.cell, F_inc, dt);
+void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, PointStress& stress) {
+  const dem::Mat3 sigma = model_.advance(*p.cell, increment);
   stress = plane_stress_of(sigma);
   const dem::CellMeasures m = p.cell->measures();
   p.modulus = model_.modulus(m);
@@ -132,7 +129,7 @@ void LibraryLaw::advance_live(Point& p, const Mat2& F_inc, double dt, PointStres
   if (enrichment_ && !p.path.open()) p.path = enrichment_->start({{"start", "restart"}});
   if (p.path.open()) {
     dem::Mat3 L = dem::Mat3::Zero();
-    L.topLeftCorner<2, 2>() = (F_inc - Mat2::Identity()) / dt;
+    L.topLeftCorner<2, 2>() = increment.L;
     enrichment_->add(p.path, *p.cell, L, sigma);
     ++p.counters.enriched_records;
   }
@@ -140,12 +137,11 @@ void LibraryLaw::advance_live(Point& p, const Mat2& F_inc, double dt, PointStres
 
 LibraryLaw::CarriedState LibraryLaw::carried_state(std::size_t slot) const {
   const Point& p = points_[slot];
-  return CarriedState{p.F, p.damage, p.steps_inside, p.history};
+  return CarriedState{p.damage, p.steps_inside, p.history};
 }
 
 void LibraryLaw::restore_point(std::size_t slot, CarriedState state, std::optional<dem::CellState> cell) {
   Point& p = points_[slot];
-  p.F = state.F;
   p.damage = state.damage;
   p.steps_inside = state.steps_inside;
   p.history = std::move(state.history);
@@ -163,10 +159,10 @@ double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
   return p.cell ? p.cell->volume() / model_.template_volume() : F.determinant();
 }
 
-double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& L) const {
+double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const {
   const Point& p = points_[slot];
   // A cached point's cell would be the template deformed by its F.
-  return model_.time_step_limit(p.cell ? p.cell->cell_matrix() : embed_plane_strain(p.F) * model_.template_cell_matrix(), L);
+  return model_.time_step_limit(p.cell ? p.cell->cell_matrix() : embed_plane_strain(F) * model_.template_cell_matrix(), L);
 }
 
 CouplingCounters LibraryLaw::counters() const {

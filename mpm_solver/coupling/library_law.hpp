@@ -1,7 +1,7 @@
 // The library-backed laws (DESIGN.md, "Macro scale: MPM"): `cache` and `hybrid`.
 //
-// Every step a cached point computes its state key from its own deformation gradient F (composed
-// from its increments), its velocity gradient L = (F_inc − I)/Δt and its damage, and asks the
+// Every step a cached point computes its state key from its deformation gradient F, the velocity
+// gradient L of its increment and its damage, and asks the
 // library: the answer's stress (rotated into the point's frame) becomes its stress, its blended
 // damage, coordination and solid fraction the point's damage and wave speed. A hit is a nearest
 // record within the tolerance.
@@ -50,10 +50,10 @@ class LibraryLaw : public ConstitutiveLaw {
   std::string name() const override { return settings_.fallback == Fallback::none ? "cache" : "hybrid"; }
   double density() const override { return model_.density(); }
   std::size_t add_point(PointStress& initial_stress) override;
-  void update(std::size_t slot, const Mat2& F_inc, double dt, PointStress& stress) override;
+  void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double volume_ratio(std::size_t slot, const Mat2& F) const override;
   double p_wave_modulus(std::size_t slot) const override { return points_[slot].modulus; }
-  double time_step_limit(std::size_t slot, const Mat2& L) const override;
+  double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return points_[slot].damage; }
   bool expensive() const override { return live_points_ > 0; }
   StressSource source(std::size_t slot) const override { return points_[slot].source; }
@@ -64,15 +64,12 @@ class LibraryLaw : public ConstitutiveLaw {
   void finish() override;
 
   const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
-  // The point's F as the law composed it from its increments.
-  const Mat2& deformation_gradient(std::size_t slot) const { return points_[slot].F; }
   const LibraryLink& link() const { return *link_; }
   // What a point carries from step to step besides its stress and cell, for restart files.
   struct CarriedState {
-    Mat2 F = Mat2::Identity();
     double damage = 0;
-    int steps_inside = 0;                    // live: consecutive steps within the tolerance
-    std::vector<RecordedIncrement> history;  // replay: every increment since the start
+    int steps_inside = 0;                     // live: consecutive steps within the tolerance
+    std::vector<KinematicIncrement> history;  // replay: every increment since the start
   };
   CarriedState carried_state(std::size_t slot) const;
   // The point continues with this state and (when live) cell, as in the run that saved them. A
@@ -82,19 +79,18 @@ class LibraryLaw : public ConstitutiveLaw {
 
  private:
   struct Point {
-    Mat2 F = Mat2::Identity();
     double damage = 0, modulus = 0, error = 0;
     StressSource source = StressSource::hit;
     std::unique_ptr<dem::DemCell> cell;          // live only
     int steps_inside = 0;                        // consecutive live steps within the tolerance
-    std::vector<RecordedIncrement> history;      // replay only
+    std::vector<KinematicIncrement> history;     // replay only
     RunPath path;                                // enrichment of the live cell
     CouplingCounters counters;
   };
 
-  lookup::LookupAnswer ask(const Point& p, const Mat2& L) const;
+  lookup::LookupAnswer ask(const Point& p, const Mat2& F, const Mat2& L) const;
   void go_live(std::size_t slot, Point& p, const Mat2& F_before, const lookup::LookupAnswer& answer, double dt);
-  void advance_live(Point& p, const Mat2& F_inc, double dt, PointStress& stress);
+  void advance_live(Point& p, const KinematicIncrement& increment, PointStress& stress);
 
   std::unique_ptr<LibraryLink> link_;
   LibraryLawSettings settings_;

@@ -17,8 +17,8 @@ long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, do
   return n;
 }
 
-long replay(dem::DemCell& cell, const std::vector<RecordedIncrement>& history, const LiveCellModel& model) {
-  for (const RecordedIncrement& inc : history) model.advance(cell, inc.F_inc, inc.dt);
+long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model) {
+  for (const KinematicIncrement& increment : history) model.advance(cell, increment);
   return static_cast<long>(history.size());
 }
 

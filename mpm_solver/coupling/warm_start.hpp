@@ -9,12 +9,6 @@
 
 namespace grainbank::mpm {
 
-// One MPM increment as a point received it.
-struct RecordedIncrement {
-  Mat2 F_inc;
-  double dt;
-};
-
 // Drives `cell` from its deformation gradient F_cell = h h_ref⁻¹ to `target` along the straight
 // path in log space: G = target F_cell⁻¹ split into n = ceil(|log G| / max_strain) equal increments
 // G^(1/n), each over `dt`. Afterwards F_cell = target up to round-off. Returns n (0 when the cell is
@@ -23,6 +17,6 @@ long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, do
 
 // Re-runs `history` on `cell` (normally a fresh copy of the template): the cell a point of the live
 // law would own after the same increments. Returns the number of increments.
-long replay(dem::DemCell& cell, const std::vector<RecordedIncrement>& history, const LiveCellModel& model);
+long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model);
 
 }  // namespace grainbank::mpm

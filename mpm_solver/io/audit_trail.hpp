@@ -1,5 +1,5 @@
 // The audit trail of a run (`"audit": {"points": N}` in the scene): for a sample of material points,
-// every step's velocity gradient and time step (the increment F_inc = I + Δt L the law received) and
+// every step's velocity gradient and time step (the increment F_inc = exp(Δt L) of the step) and
 // the stress the run answered with, and where it came from (library hit, miss, live cell). With these,
 // `mpm_solver audit RUN` re-runs a live DEM cell through each sampled point's own history and measures
 // what the cache cost in stress at every cached point-step (audit/run_audit.hpp).
@@ -39,8 +39,10 @@ struct AuditTrail {
   std::vector<PointTrail> points;
 };
 
-// The increment a point's law received in a step (the solver composes F with the same expression).
-inline Mat2 step_increment(const TrailStep& step) { return Mat2::Identity() + step.dt * step.velocity_gradient; }
+// The increment of a step, as the solver builds it.
+inline KinematicIncrement step_increment(const TrailStep& step) {
+  return KinematicIncrement::of_velocity_gradient(step.velocity_gradient, step.dt);
+}
 
 // Records the sampled points after every step of a run.
 class AuditTrailRecorder {

@@ -15,12 +15,11 @@ namespace h5 = db::h5;
 
 namespace {
 
-// 2: points of cache/hybrid laws also carry their steps inside the tolerance and replay history.
-constexpr const char* kFormat = "grainbank-restart-2";
-constexpr hsize_t kColumns = 28;
+constexpr const char* kFormat = kRestartFormat;
+constexpr hsize_t kColumns = 29;
 
 // id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz, pending
-// increment (4).
+// increment (4), its time.
 void append_row(std::vector<double>& rows, const MaterialPoint& mp) {
   const Mat2& F = mp.deformation_gradient;
   const Mat2& L = mp.velocity_gradient;
@@ -29,7 +28,7 @@ void append_row(std::vector<double>& rows, const MaterialPoint& mp) {
   rows.insert(rows.end(), {double(mp.id), double(mp.law), double(mp.slot), mp.mass, mp.initial_volume, mp.volume,
                            mp.radius, mp.position.x(), mp.position.y(), mp.velocity.x(), mp.velocity.y(), F(0, 0),
                            F(0, 1), F(1, 0), F(1, 1), L(0, 0), L(0, 1), L(1, 0), L(1, 1), s(0, 0), s(0, 1), s(1, 0),
-                           s(1, 1), mp.stress.zz, P(0, 0), P(0, 1), P(1, 0), P(1, 1)});
+                           s(1, 1), mp.stress.zz, P(0, 0), P(0, 1), P(1, 0), P(1, 1), mp.pending_time});
 }
 
 MaterialPoint point_from_row(const double* r) {
@@ -45,6 +44,7 @@ MaterialPoint point_from_row(const double* r) {
   mp.stress.in_plane << r[19], r[20], r[21], r[22];
   mp.stress.zz = r[23];
   mp.pending_increment << r[24], r[25], r[26], r[27];
+  mp.pending_time = r[28];
   return mp;
 }
 
@@ -52,10 +52,10 @@ std::string cell_group(std::size_t law, std::size_t slot) {
   return "law_" + std::to_string(law) + "_cell_" + std::to_string(slot);
 }
 
-// Per point of a cache/hybrid law: slot, F (4), damage, live (0/1), steps inside the tolerance;
-// live cells as cell groups; the replay histories as rows slot, F_inc (4), dt, in step order.
-constexpr hsize_t kLibraryColumns = 8;
-constexpr hsize_t kHistoryColumns = 6;
+// Per point of a cache/hybrid law: slot, damage, live (0/1), steps inside the tolerance; live cells
+// as cell groups; the replay histories as rows slot, F_inc (4), L (4), dt, in step order.
+constexpr hsize_t kLibraryColumns = 4;
+constexpr hsize_t kHistoryColumns = 10;
 std::string library_points(std::size_t law) { return "law_" + std::to_string(law) + "_library_points"; }
 std::string replay_history(std::size_t law) { return "law_" + std::to_string(law) + "_replay_history"; }
 
@@ -85,12 +85,11 @@ void write_contents(const h5::Object& root, const Solver& solver) {
     for (const MaterialPoint& mp : solver.points()) {
       if (mp.law != k) continue;
       const LibraryLaw::CarriedState state = law->carried_state(mp.slot);
-      const Mat2& F = state.F;
       const dem::DemCell* cell = law->live_cell(mp.slot);
-      rows.insert(rows.end(), {double(mp.slot), F(0, 0), F(0, 1), F(1, 0), F(1, 1), state.damage, cell ? 1.0 : 0.0,
-                               double(state.steps_inside)});
-      for (const RecordedIncrement& r : state.history)
-        history.insert(history.end(), {double(mp.slot), r.F_inc(0, 0), r.F_inc(0, 1), r.F_inc(1, 0), r.F_inc(1, 1), r.dt});
+      rows.insert(rows.end(), {double(mp.slot), state.damage, cell ? 1.0 : 0.0, double(state.steps_inside)});
+      for (const KinematicIncrement& r : state.history)
+        history.insert(history.end(), {double(mp.slot), r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), r.L(0, 0), r.L(0, 1),
+                                       r.L(1, 0), r.L(1, 1), r.dt});
       if (cell)
         db::write_cell_state(h5::create_group(root, cell_group(k, mp.slot)), db::StoredCell{cell->state(), cell->skin()});
     }
@@ -146,22 +145,23 @@ void read_restart(const std::filesystem::path& file, Solver& solver) {
     auto* law = dynamic_cast<LibraryLaw*>(&solver.law(k));
     if (!law) continue;
     const std::vector<double> rows = h5::read_array<double>(root, library_points(k), kLibraryColumns);
-    std::map<std::size_t, std::vector<RecordedIncrement>> histories;
+    std::map<std::size_t, std::vector<KinematicIncrement>> histories;
     const std::vector<double> history = h5::read_array<double>(root, replay_history(k), kHistoryColumns);
     for (std::size_t r = 0; r < history.size(); r += kHistoryColumns) {
-      RecordedIncrement increment{Mat2::Identity(), history[r + 5]};
-      increment.F_inc << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
+      KinematicIncrement increment;
+      increment.F << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
+      increment.L << history[r + 5], history[r + 6], history[r + 7], history[r + 8];
+      increment.dt = history[r + 9];
       histories[static_cast<std::size_t>(history[r])].push_back(increment);
     }
     for (std::size_t r = 0; r < rows.size(); r += kLibraryColumns) {
       const auto slot = static_cast<std::size_t>(rows[r]);
       LibraryLaw::CarriedState state;
-      state.F << rows[r + 1], rows[r + 2], rows[r + 3], rows[r + 4];
-      state.damage = rows[r + 5];
-      state.steps_inside = static_cast<int>(rows[r + 7]);
+      state.damage = rows[r + 1];
+      state.steps_inside = static_cast<int>(rows[r + 3]);
       state.history = std::move(histories[slot]);
       std::optional<dem::CellState> cell;
-      if (rows[r + 6] != 0) cell = db::read_cell_state(h5::open_group(root, cell_group(k, slot))).state;
+      if (rows[r + 2] != 0) cell = db::read_cell_state(h5::open_group(root, cell_group(k, slot))).state;
       law->restore_point(slot, std::move(state), std::move(cell));
     }
   }

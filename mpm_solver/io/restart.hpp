@@ -1,8 +1,8 @@
 // Restart files (HDF5): everything that evolves during a run — time, step count, every material
 // point, the obstacles' tangential contact history, the full state of every live DEM cell and what
-// the points of cache/hybrid laws carry (F, damage, steps inside the tolerance, replay history) — so
+// the points of cache/hybrid laws carry (damage, steps inside the tolerance, replay history) — so
 // that a solver built from the same scene and restored continues exactly like the uninterrupted run.
-// Layout: attributes format ("grainbank-restart-2"), time, steps; dataset points (one row per point, see restart.cpp); dataset
+// Layout: attributes format (kRestartFormat), time, steps; dataset points (one row per point, see restart.cpp); dataset
 // obstacle_tangential (obstacles × points); group law_<i>_cell_<slot> per live cell (as in the
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.
@@ -12,6 +12,12 @@
 #include "core/solver.hpp"
 
 namespace grainbank::mpm::io {
+
+// The layout's version, written into every file; a file of another version is refused.
+// 2: points of cache/hybrid laws also carry their steps inside the tolerance and replay history.
+// 3: a point's pending increment has its elapsed time; increments carry L; cache/hybrid points no
+//    longer carry an F of their own.
+inline constexpr const char* kRestartFormat = "grainbank-restart-3";
 
 void write_restart(const std::filesystem::path& file, const Solver& solver);
 

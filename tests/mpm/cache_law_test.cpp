@@ -31,8 +31,9 @@ TEST(CacheLaw, ReproducesTheLiveStressOfAPathTheLibraryHolds) {
     auto hybrid = library_law(dir, id, coupling_settings(Fallback::warm_start, true));
     PointStress s;
     hybrid->add_point(s);
+    PointDriver drive;
     for (const Mat2& inc : increments) {
-      hybrid->update(0, inc, dt, s);
+      drive(*hybrid, inc, dt, s);
       live.push_back(s);
     }
     hybrid->finish();
@@ -42,8 +43,9 @@ TEST(CacheLaw, ReproducesTheLiveStressOfAPathTheLibraryHolds) {
   EXPECT_EQ(cache->link().index().size(), increments.size());
   PointStress s;
   cache->add_point(s);
+  PointDriver drive;
   for (std::size_t k = 0; k < increments.size(); ++k) {
-    cache->update(0, increments[k], dt, s);
+    drive(*cache, increments[k], dt, s);
     const double scale = std::abs(live[k].in_plane.trace());
     EXPECT_EQ(cache->source(0), StressSource::hit) << "increment " << k;
     EXPECT_LE((s.in_plane - live[k].in_plane).norm(), cache->estimated_error(0) + 1e-9 * scale) << "increment " << k;
@@ -73,14 +75,15 @@ TEST(CacheLaw, AMissIsAnsweredByTheNearestStateAndCounted) {
     auto hybrid = library_law(dir, id, coupling_settings(Fallback::warm_start, true));
     PointStress s;
     hybrid->add_point(s);
-    for (int k = 0; k < 4; ++k) hybrid->update(0, Mat2::Identity() + 2e-4 * Mat2{{0, 1}, {0, 0}}, 2e-4, s);
+    PointDriver drive;
+    for (int k = 0; k < 4; ++k) drive(*hybrid, Mat2::Identity() + 2e-4 * Mat2{{0, 1}, {0, 0}}, 2e-4, s);
     hybrid->finish();
   }
   auto cache = library_law(dir, id, coupling_settings(Fallback::none, false));
   PointStress s;
   cache->add_point(s);
   // A large compression: far from the stored shear path.
-  cache->update(0, Mat2::Identity() + 0.05 * Mat2{{-1, 0}, {0, -1}}, 2e-4, s);
+  PointDriver{}(*cache, Mat2::Identity() + 0.05 * Mat2{{-1, 0}, {0, -1}}, 2e-4, s);
   EXPECT_EQ(cache->source(0), StressSource::miss);
   EXPECT_EQ(cache->counters().misses, 1u);
   EXPECT_GT(s.in_plane.norm(), 0);  // still answered

@@ -75,4 +75,20 @@ inline Solver block_with(std::unique_ptr<ConstitutiveLaw> law, double shear_rate
 
 inline double hit_rate(const Solver& solver) { return solver.law(0).counters().hit_rate(); }
 
+// Drives one point of a law outside the MPM step, as the step would: each increment F_inc over dt
+// (at L = log F_inc / dt) and the point's deformation gradient composed from them.
+class PointDriver {
+ public:
+  explicit PointDriver(std::size_t slot = 0) : slot_(slot) {}
+  void operator()(ConstitutiveLaw& law, const Mat2& F_inc, double dt, PointStress& stress) {
+    F_ = F_inc * F_;
+    law.update(slot_, KinematicIncrement::of_deformation(F_inc, dt), F_, stress);
+  }
+  const Mat2& F() const { return F_; }
+
+ private:
+  std::size_t slot_;
+  Mat2 F_ = Mat2::Identity();
+};
+
 }  // namespace grainbank::mpm::testing

