@@ -16,7 +16,7 @@ namespace h5 = db::h5;
 namespace {
 
 constexpr const char* kFormat = kRestartFormat;
-constexpr hsize_t kColumns = 29;
+constexpr hsize_t kColumns = kRestartPointColumns;
 
 // id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz, pending
 // increment (4), its time.

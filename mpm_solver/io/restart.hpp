@@ -7,6 +7,7 @@
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.
 #pragma once
+#include <cstddef>
 #include <filesystem>
 
 #include "core/solver.hpp"
@@ -18,6 +19,8 @@ namespace grainbank::mpm::io {
 // 3: a point's pending increment has its elapsed time; increments carry L; cache/hybrid points no
 //    longer carry an F of their own.
 inline constexpr const char* kRestartFormat = "grainbank-restart-3";
+// Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
+inline constexpr std::size_t kRestartPointColumns = 29;
 
 void write_restart(const std::filesystem::path& file, const Solver& solver);
 
