@@ -2,7 +2,7 @@
 // point, the obstacles' tangential contact history, the full state of every live DEM cell and what
 // the points of cache/hybrid laws carry (F, damage, steps inside the tolerance, replay history) — so
 // that a solver built from the same scene and restored continues exactly like the uninterrupted run.
-// Layout: attributes format ("grainbank-restart-2"), time, steps; dataset points (one row per point, see restart.cpp); dataset
+// Layout: attributes format ("grainbank-restart-3"), time, steps; dataset points (one row per point, see restart.cpp); dataset
 // obstacle_tangential (obstacles × points); group law_<i>_cell_<slot> per live cell (as in the
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.

@@ -1,7 +1,9 @@
 // Helpers shared by the MPM tests: small scenes built through the solver's C++ interface.
 #pragma once
+#include <limits>
 #include <map>
 #include <memory>
+#include <string>
 
 #include "core/elastic_law.hpp"
 #include "core/seeding.hpp"
@@ -9,15 +11,27 @@
 
 namespace grainbank::mpm::testing {
 
-inline SolverSettings settings_with_flip(double flip) {
+// The velocity transfers: APIC (the default), the FLIP/PIC blend with a PIC fraction per second,
+// pure FLIP (rate 0) and pure PIC (rate ∞).
+inline VelocityTransfer apic() { return {}; }
+inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate}; }
+inline VelocityTransfer pure_flip() { return flip_pic(0); }
+inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>::infinity()); }
+
+inline std::string describe(const VelocityTransfer& t) {
+  return t.kind == VelocityTransfer::Kind::apic ? "apic" : "flip_pic, pic_rate " + std::to_string(t.pic_rate) + "/s";
+}
+
+inline SolverSettings settings_with(const VelocityTransfer& transfer) {
   SolverSettings s;
-  s.flip = flip;
+  s.transfer = transfer;
   return s;
 }
 
 // A solver with one elastic law (index 0).
-inline Solver elastic_solver(const Grid& grid, double density, double young, double poisson, double flip) {
-  Solver solver(grid, settings_with_flip(flip));
+inline Solver elastic_solver(const Grid& grid, double density, double young, double poisson,
+                             const VelocityTransfer& transfer = apic()) {
+  Solver solver(grid, settings_with(transfer));
   solver.add_law(std::make_unique<ElasticLaw>(density, Elasticity{young, poisson}));
   return solver;
 }
