@@ -34,7 +34,7 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer="apic"):
     k_n = p_wave_modulus() / ppc**2
     top = base + H0 + h
     contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
-    end = end or 20 * math.sqrt(H0 / 9.81) + 1
+    end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
     return {
         "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
         "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
