@@ -8,7 +8,6 @@
 #include <cmath>
 #include <initializer_list>
 #include <iterator>
-#include <numbers>
 #include <string>
 
 #include "core/diagnostics.hpp"
@@ -180,15 +179,8 @@ TEST(HardCases, TimeStepShrinksAsTheMaterialSpeedsUp) {
 
 // Kinetic energy of a free elastic bar vibrating in its first mode, sampled every step.
 std::vector<double> vibrating_bar_energy(const VelocityTransfer& transfer, double periods, double* period) {
-  const double length = 1, young = 100, density = 1, h = length / 8;
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 12, 6), density, young, 0.0, transfer);
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 16; ++i) {
-      const double xi = (i + 0.5) / 16;
-      solver.add_point(0, Vec2(2 * h + xi * length, 2 * h + (j + 0.5) * h / 2), h * h / 4, h / 4,
-                       Vec2(0.01 * std::cos(std::numbers::pi * xi), 0));
-    }
-  *period = 2 * length / std::sqrt(young / density);
+  Solver solver = testing::vibrating_bar(transfer);
+  *period = testing::kBarPeriod;
   std::vector<double> energy{measure_flow(solver.points()).kinetic_energy};
   testing::run_until(solver, periods * *period, [&](const Solver& s) {
     for (const MaterialPoint& mp : s.points()) EXPECT_TRUE(finite(mp));

@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <numbers>
 
 #include "core/diagnostics.hpp"
 #include "mpm_test_util.hpp"
@@ -75,17 +74,10 @@ TEST(Transfer, ApicKeepsTheAngularMomentumAndKineticEnergyOfASpinningDisk) {
   EXPECT_LT(blend.angular_momentum, -1e-2) << "the test must tell a dissipative transfer";
 }
 
-// The remaining kinetic energy of a free elastic bar vibrating in its first mode after `duration`,
-// stepped at a fixed dt, relative to the initial one.
+// The remaining kinetic energy of the vibrating bar after `duration`, stepped at a fixed dt,
+// relative to the initial one.
 double bar_energy_left(const VelocityTransfer& transfer, double dt, double duration) {
-  const double length = 1, young = 100, density = 1, h = length / 8;
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 12, 6), density, young, 0.0, transfer);
-  for (int j = 0; j < 4; ++j)
-    for (int i = 0; i < 16; ++i) {
-      const double xi = (i + 0.5) / 16;
-      solver.add_point(0, Vec2(2 * h + xi * length, 2 * h + (j + 0.5) * h / 2), h * h / 4, h / 4,
-                       Vec2(0.01 * std::cos(std::numbers::pi * xi), 0));
-    }
+  Solver solver = testing::vibrating_bar(transfer);
   const double e0 = measure_flow(solver.points()).kinetic_energy;
   const int steps = static_cast<int>(std::lround(duration / dt));
   for (int k = 0; k < steps; ++k) solver.step(dt);
@@ -93,10 +85,10 @@ double bar_energy_left(const VelocityTransfer& transfer, double dt, double durat
 }
 
 TEST(Transfer, BlendDampingIsARatePerSecondNotPerStep) {
-  // The bar's period is 0.2 s; after one period its energy is all kinetic again. The share of it
-  // that a PIC rate of 20/s removes beyond pure FLIP is the same at Δt and Δt / 2 (a fixed per-step
-  // fraction would remove twice as much at Δt / 2).
-  const double period = 0.2, dt = 2e-3;
+  // After one period the bar's energy is all kinetic again. The share of it that a PIC rate of 20/s
+  // removes beyond pure FLIP is the same at Δt and Δt / 2 (a fixed per-step fraction would remove
+  // twice as much at Δt / 2).
+  const double period = testing::kBarPeriod, dt = 2e-3;
   double loss[2];
   for (int k : {0, 1}) {
     const double step = dt / (1 + k);
