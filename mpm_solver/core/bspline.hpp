@@ -9,11 +9,17 @@
 namespace grainbank::mpm {
 
 // Weights of the 4×4 nodes around one point: node (a, b) of the stencil is stored at
-// first_node + a + b · nodes_x, has N = wx[a] wy[b] and ∇N = (gx[a] wy[b], wx[a] gy[b]).
+// first_node + a + b · nodes_x, has N = wx[a] wy[b], ∇N = (gx[a] wy[b], wx[a] gy[b]) and lies at
+// x_i − x_p = (dx[a], dy[b]) from the point.
 struct Stencil {
   std::size_t first_node = 0;
-  double wx[4], wy[4], gx[4], gy[4];
+  double wx[4], wy[4], gx[4], gy[4], dx[4], dy[4];
 };
+
+// APIC's inertia-like matrix D_p = Σ_i N_ip (x_i − x_p)(x_i − x_p)ᵀ = h²/3 I for every point: the
+// uniform cubic B-splines reproduce quadratics (Σ_i N_i x_i² = x² + h²/3 in 1D), and the ghost ring
+// keeps every stencil complete, up to the border of the grid.
+inline double affine_inertia(double h) { return h * h / 3; }
 
 // 1D cubic B-spline weights (and derivatives, already divided by h) of the four nodes
 // floor(ξ) - 1 … floor(ξ) + 2 for a point at fractional offset f = ξ - floor(ξ) ∈ [0, 1).
@@ -39,6 +45,11 @@ inline Stencil stencil_at(const Grid& grid, const Vec2& x) {
   s.first_node = static_cast<std::size_t>(fx) + static_cast<std::size_t>(fy) * grid.nodes_x();
   cubic_weights(xi.x() - fx, inv_h, s.wx, s.gx);
   cubic_weights(xi.y() - fy, inv_h, s.wy, s.gy);
+  const double h = grid.cell_size();
+  for (int a = 0; a < 4; ++a) {
+    s.dx[a] = (a - 1 - (xi.x() - fx)) * h;
+    s.dy[a] = (a - 1 - (xi.y() - fy)) * h;
+  }
   return s;
 }
 

@@ -18,9 +18,8 @@ DruckerPragerLaw::DruckerPragerLaw(double density, DruckerPragerParameters param
     throw std::invalid_argument("friction_angle: expected an angle in [0, 90) degrees");
   if (!(parameters_.cohesion >= 0) || !std::isfinite(parameters_.cohesion))
     throw std::invalid_argument("cohesion: expected a number >= 0, got " + std::to_string(parameters_.cohesion));
-  const double t = std::tan(phi), root = std::sqrt(9 + 12 * t * t);
-  eta_ = 3 * t / root;
-  xi_ = 3 / root;
+  eta_ = std::sin(phi);
+  xi_ = std::cos(phi);
   const double apex = eta_ > 0 ? xi_ * parameters_.cohesion / eta_ : std::numeric_limits<double>::infinity();
   if (!(parameters_.tensile_strength >= 0 && parameters_.tensile_strength <= apex))
     throw std::invalid_argument("tensile_strength: expected a number in [0, " + std::to_string(apex) +

@@ -1,6 +1,10 @@
 // Drucker–Prager plasticity with cohesion and a tension cut-off, plane strain, no dilatancy.
-// Yield: sqrt(J2) ≤ η p + ξ c with η, ξ matched to Mohr–Coulomb in plane strain,
-// η = 3 tan φ / sqrt(9 + 12 tan² φ), ξ = 3 / sqrt(9 + 12 tan² φ), p = -tr σ / 3.
+// Yield: sqrt(J2) ≤ η p + ξ c, p = -tr σ / 3, with η = sin φ, ξ = cos φ: the match to Mohr–Coulomb
+// for this return. Plastic flow is deviatoric and along s, so steady plane-strain flow (ε̇_zz = 0)
+// has s_zz = 0; then sqrt(J2) = (σ1 − σ3)/2 and p = (σ1 + σ3)/2, and the cone is Mohr–Coulomb's
+// (σ1 − σ3)/2 = sin φ (σ1 + σ3)/2 + c cos φ. (The match η = 3 tan φ / sqrt(9 + 12 tan² φ) belongs to
+// an associated, dilatant flow rule; with this return it flows at (σ1 − σ3)/(σ1 + σ3) = 0.48 instead
+// of sin 30° = 0.5.)
 // Tension cut-off: the mean stress never exceeds the tensile strength T (p ≥ -T).
 // Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
 // radially onto the cone (zero dilatancy: plastic flow is purely deviatoric).

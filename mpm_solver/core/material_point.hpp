@@ -17,6 +17,9 @@ struct MaterialPoint {
   double radius = 0;           // disk radius seen by obstacles: half the initial point spacing [m]
   Vec2 position = Vec2::Zero();
   Vec2 velocity = Vec2::Zero();
+  // APIC's B_p = Σ_i N_ip v_i (x_i − x_p)ᵀ: with C_p = B_p D_p⁻¹ the point carries the affine
+  // velocity field v_p + C_p (x − x_p) (Jiang et al. 2015). Zero under the FLIP/PIC blend.
+  Mat2 affine_velocity = Mat2::Zero();
   Vec2 external_force = Vec2::Zero();  // obstacle contact force of the current step [N/m]
   Mat2 deformation_gradient = Mat2::Identity();
   Mat2 velocity_gradient = Mat2::Zero();  // L of the last step

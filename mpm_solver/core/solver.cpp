@@ -45,7 +45,7 @@ std::string at_time(double t) {
 
 Solver::Solver(Grid grid, SolverSettings settings)
     : grid_(std::move(grid)), settings_(settings), buffers_(grid_.node_count()) {
-  if (!(settings_.flip >= 0 && settings_.flip <= 1)) throw std::invalid_argument("flip: expected a number in [0, 1]");
+  if (!(settings_.transfer.pic_rate >= 0)) throw std::invalid_argument("pic_rate: expected a number >= 0 [1/s]");
   if (!(settings_.time_step.cfl > 0) || !(settings_.time_step.contact > 0))
     throw std::invalid_argument("time-step factors must be positive");
   if (!(settings_.skip_strain_increment >= 0))
@@ -106,7 +106,7 @@ void Solver::step(double dt) {
     if (settings_.homogeneous_drive) impose_homogeneous_velocity(grid_, *settings_.homogeneous_drive);
   });
   timed(phase_times_.grid_to_particles, [&] {
-    grid_to_particles(grid_, points_, stencils_, dt, settings_.flip);
+    grid_to_particles(grid_, points_, stencils_, dt, settings_.transfer);
     remap_velocities(grid_, points_, stencils_, buffers_);
     if (settings_.homogeneous_drive) impose_homogeneous_velocity(grid_, *settings_.homogeneous_drive);
   });

@@ -1,5 +1,5 @@
 // The 2D plane-strain MPM solver: material points on a regular grid with cubic B-splines, explicit
-// MUSL time integration with a FLIP/PIC blend, gravity and rigid obstacles. Knows no file format:
+// MUSL time integration with APIC (or the FLIP/PIC blend), gravity and rigid obstacles. Knows no file format:
 // scenes are built through this interface (io/ reads them from JSON).
 #pragma once
 #include <optional>
@@ -18,7 +18,7 @@
 namespace grainbank::mpm {
 
 struct SolverSettings {
-  double flip = 0.95;             // α of the FLIP/PIC blend: 1 = pure FLIP, 0 = pure PIC (damps)
+  VelocityTransfer transfer;
   TimeStepFactors time_step;
   double max_time_step = std::numeric_limits<double>::infinity();
   int sort_interval = 20;         // re-sort points by cell every this many steps (memory locality)

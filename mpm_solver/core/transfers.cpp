@@ -41,6 +41,16 @@ void scatter_points(Grid& grid, const std::vector<MaterialPoint>& points, const 
   }
 }
 
+// A point's momentum field m_p (v_p + C_p (x − x_p)), C_p = B_p D_p⁻¹, evaluated at the offsets
+// x_i − x_p of its nodes.
+struct AffineMomentum {
+  Vec2 momentum;
+  Mat2 gradient;
+  AffineMomentum(const MaterialPoint& mp, double h)
+      : momentum(mp.mass * mp.velocity), gradient(mp.mass / affine_inertia(h) * mp.affine_velocity) {}
+  Vec2 at(const Stencil& s, int a, int b) const { return momentum + gradient * Vec2(s.dx[a], s.dy[b]); }
+};
+
 }  // namespace
 
 ScatterBuffers::ScatterBuffers(std::size_t nodes) : per_thread(std::max(omp_get_max_threads(), 1)) {
@@ -59,8 +69,9 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
                        ScatterBuffers& buffers) {
   grid.sums.clear();
   const std::size_t stride = grid.nodes_x();
-  scatter_points<false>(grid, points, stencils, buffers, [stride](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
-    const Vec2 momentum = mp.mass * mp.velocity;
+  const double h = grid.cell_size();
+  scatter_points<false>(grid, points, stencils, buffers, [stride, h](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
+    const AffineMomentum momentum(mp, h);
     const Mat2 vs = mp.volume * mp.stress.in_plane;
     for (int b = 0; b < 4; ++b) {
       const std::size_t row = s.first_node + b * stride;
@@ -68,7 +79,7 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
         const double N = s.wx[a] * s.wy[b];
         const Vec2 grad(s.gx[a] * s.wy[b], s.wx[a] * s.gy[b]);
         acc.mass[row + a] += N * mp.mass;
-        acc.momentum[row + a] += N * momentum;
+        acc.momentum[row + a] += N * momentum.at(s, a, b);
         acc.force[row + a] += N * mp.external_force - vs * grad;
       }
     }
@@ -91,24 +102,36 @@ void update_grid(Grid& grid, const Vec2& gravity) {
 }
 
 void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
-                       double dt, double flip) {
+                       double dt, const VelocityTransfer& transfer) {
   const std::size_t stride = grid.nodes_x();
+  const bool apic = transfer.kind == VelocityTransfer::Kind::apic;
+  const double w = transfer.pic_weight(dt);
   const long n = static_cast<long>(points.size());
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     const Stencil& s = stencils[p];
     Vec2 v = Vec2::Zero(), a = Vec2::Zero();
+    double b00 = 0, b01 = 0, b10 = 0, b11 = 0;  // B_p as scalars (see velocity_gradient)
     for (int b = 0; b < 4; ++b) {
       const std::size_t row = s.first_node + b * stride;
       for (int i = 0; i < 4; ++i) {
         const double N = s.wx[i] * s.wy[b];
-        v += N * grid.velocity[row + i];
+        const Vec2 v_new = grid.velocity[row + i] + dt * grid.acceleration[row + i];
+        const Vec2 Nv = N * v_new;
+        v += Nv;
         a += N * grid.acceleration[row + i];
+        b00 += Nv.x() * s.dx[i], b01 += Nv.x() * s.dy[b];
+        b10 += Nv.y() * s.dx[i], b11 += Nv.y() * s.dy[b];
       }
     }
     MaterialPoint& mp = points[p];
-    mp.position += dt * (v + 0.5 * dt * a);
-    mp.velocity = flip * (mp.velocity + dt * a) + (1 - flip) * (v + dt * a);
+    mp.position += dt * v;
+    if (apic) {
+      mp.velocity = v;
+      mp.affine_velocity << b00, b01, b10, b11;
+    } else {
+      mp.velocity = (1 - w) * (mp.velocity + dt * a) + w * v;
+    }
   }
 }
 
@@ -116,11 +139,12 @@ void remap_velocities(Grid& grid, const std::vector<MaterialPoint>& points, cons
                       ScatterBuffers& buffers) {
   std::fill(grid.sums.momentum.begin(), grid.sums.momentum.end(), Vec2::Zero());
   const std::size_t stride = grid.nodes_x();
-  scatter_points<true>(grid, points, stencils, buffers, [stride](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
-    const Vec2 momentum = mp.mass * mp.velocity;
+  const double h = grid.cell_size();
+  scatter_points<true>(grid, points, stencils, buffers, [stride, h](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
+    const AffineMomentum momentum(mp, h);
     for (int b = 0; b < 4; ++b) {
       const std::size_t row = s.first_node + b * stride;
-      for (int a = 0; a < 4; ++a) acc.momentum[row + a] += (s.wx[a] * s.wy[b]) * momentum;
+      for (int a = 0; a < 4; ++a) acc.momentum[row + a] += (s.wx[a] * s.wy[b]) * momentum.at(s, a, b);
     }
   });
   const long nodes = static_cast<long>(grid.node_count());

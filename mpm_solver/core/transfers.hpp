@@ -2,12 +2,28 @@
 // Scatters (point → node) accumulate into one NodeSums per thread and are then reduced, so OpenMP
 // threads never write the same node; gathers (node → point) only read the grid.
 #pragma once
+#include <cmath>
 #include <vector>
 
 #include "bspline.hpp"
 #include "material_point.hpp"
 
 namespace grainbank::mpm {
+
+// How velocities go from the points to the grid and back.
+struct VelocityTransfer {
+  enum class Kind {
+    apic,      // affine PIC: conserves angular momentum, no per-step dissipation
+    flip_pic,  // the FLIP/PIC blend of the seed (§2.1)
+  };
+  Kind kind = Kind::apic;
+  // FLIP/PIC only: the PIC fraction per unit time r [1/s], so that the damping does not depend on
+  // the time step: a step of Δt blends in the PIC velocity with weight 1 − exp(−r Δt). 0 = pure
+  // FLIP, ∞ = pure PIC.
+  double pic_rate = 0;
+
+  double pic_weight(double dt) const { return kind == Kind::apic ? 1.0 : -std::expm1(-pic_rate * dt); }
+};
 
 // Per-thread accumulators, sized to the grid.
 struct ScatterBuffers {
@@ -18,21 +34,23 @@ struct ScatterBuffers {
 // Shape-function stencils of every point (the points must all lie inside the grid).
 void compute_stencils(const Grid& grid, const std::vector<MaterialPoint>& points, std::vector<Stencil>& stencils);
 
-// P2G: nodal mass, momentum and force: f_i = Σ_p (-V_p σ_p ∇N_ip + N_ip f_ext,p).
+// P2G: nodal mass, momentum and force: m_i v_i = Σ_p N_ip m_p (v_p + C_p (x_i − x_p)) with
+// C_p = B_p D_p⁻¹ (zero under FLIP/PIC), f_i = Σ_p (-V_p σ_p ∇N_ip + N_ip f_ext,p).
 void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
                        ScatterBuffers& buffers);
 
 // Nodal velocity v_i = q_i / m_i and acceleration a_i = f_i / m_i + g at nodes carrying mass.
 void update_grid(Grid& grid, const Vec2& gravity);
 
-// G2P: point velocities by the FLIP/PIC blend, v_p ← α (v_p + Δt Σ N a_i) + (1 - α) Σ N (v_i + Δt a_i),
-// and positions by x_p += Δt Σ N (v_i + Δt a_i / 2), the trapezoidal rule in time (exact for a
-// uniform acceleration such as free fall).
+// G2P with the updated nodal velocities v_i' = v_i + Δt a_i. APIC: v_p ← Σ N v_i' and
+// B_p ← Σ N v_i' (x_i − x_p)ᵀ. FLIP/PIC with PIC weight w: v_p ← (1 − w)(v_p + Δt Σ N a_i) + w Σ N v_i'.
+// Positions by the standard MUSL update x_p += Δt Σ N v_i' (symplectic Euler: a point bouncing on
+// a penalty obstacle neither gains nor loses energy on average).
 void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
-                       double dt, double flip);
+                       double dt, const VelocityTransfer& transfer);
 
-// MUSL remap: nodal velocities again from the updated point momenta, so that the velocity gradient
-// of the stress update sees the blended velocities.
+// MUSL remap: nodal velocities again from the updated point velocities, by the same (affine)
+// momentum transfer as P2G, so that the velocity gradient of the stress update sees them.
 void remap_velocities(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
                       ScatterBuffers& buffers);
 

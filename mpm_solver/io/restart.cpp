@@ -19,16 +19,18 @@ constexpr const char* kFormat = kRestartFormat;
 constexpr hsize_t kColumns = kRestartPointColumns;
 
 // id, law, slot, mass, V0, V, radius, x, y, vx, vy, F (4), L (4), σ in plane (4), σ_zz, pending
-// increment (4), its time.
+// increment (4), its time, APIC's affine velocity B (4).
 void append_row(std::vector<double>& rows, const MaterialPoint& mp) {
   const Mat2& F = mp.deformation_gradient;
   const Mat2& L = mp.velocity_gradient;
   const Mat2& s = mp.stress.in_plane;
   const Mat2& P = mp.pending_increment;
+  const Mat2& B = mp.affine_velocity;
   rows.insert(rows.end(), {double(mp.id), double(mp.law), double(mp.slot), mp.mass, mp.initial_volume, mp.volume,
                            mp.radius, mp.position.x(), mp.position.y(), mp.velocity.x(), mp.velocity.y(), F(0, 0),
                            F(0, 1), F(1, 0), F(1, 1), L(0, 0), L(0, 1), L(1, 0), L(1, 1), s(0, 0), s(0, 1), s(1, 0),
-                           s(1, 1), mp.stress.zz, P(0, 0), P(0, 1), P(1, 0), P(1, 1), mp.pending_time});
+                           s(1, 1), mp.stress.zz, P(0, 0), P(0, 1), P(1, 0), P(1, 1), mp.pending_time, B(0, 0), B(0, 1),
+                           B(1, 0), B(1, 1)});
 }
 
 MaterialPoint point_from_row(const double* r) {
@@ -45,6 +47,7 @@ MaterialPoint point_from_row(const double* r) {
   mp.stress.zz = r[23];
   mp.pending_increment << r[24], r[25], r[26], r[27];
   mp.pending_time = r[28];
+  mp.affine_velocity << r[29], r[30], r[31], r[32];
   return mp;
 }
 

@@ -17,10 +17,10 @@ namespace grainbank::mpm::io {
 // The layout's version, written into every file; a file of another version is refused.
 // 2: points of cache/hybrid laws also carry their steps inside the tolerance and replay history.
 // 3: a point's pending increment has its elapsed time; increments carry L; cache/hybrid points no
-//    longer carry an F of their own.
+//    longer carry an F of their own; points carry APIC's affine velocity B_p.
 inline constexpr const char* kRestartFormat = "grainbank-restart-3";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
-inline constexpr std::size_t kRestartPointColumns = 29;
+inline constexpr std::size_t kRestartPointColumns = 33;
 
 void write_restart(const std::filesystem::path& file, const Solver& solver);
 

@@ -42,6 +42,28 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
   return drive;
 }
 
+// "apic" | "pic" | {"flip_pic": {"pic_rate": r}}, r the PIC fraction per second.
+VelocityTransfer read_transfer(const JsonNode& node) {
+  constexpr std::string_view expected =
+      "\"apic\", \"pic\" or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second)";
+  VelocityTransfer transfer;
+  if (node.value().is_string()) {
+    const std::string name = node.string();
+    if (name == "apic") return transfer;
+    if (name != "pic") node.fail_expected(expected);
+    transfer.kind = VelocityTransfer::Kind::flip_pic;
+    transfer.pic_rate = kInfinity;
+    return transfer;
+  }
+  if (!node.value().is_object()) node.fail_expected(expected);
+  node.allow_only({"flip_pic"});
+  const JsonNode blend = node.at("flip_pic", expected);
+  blend.allow_only({"pic_rate"});
+  transfer.kind = VelocityTransfer::Kind::flip_pic;
+  transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
+  return transfer;
+}
+
 std::vector<Vec2> vertices(const JsonNode& node) {
   std::vector<Vec2> out;
   const std::size_t n = node.array_size("an array of [x, y] vertices");
@@ -289,11 +311,17 @@ Scene load_scene(const std::filesystem::path& file) {
   settings.time_step.cfl = time.number_or("cfl", settings.time_step.cfl, Range::between(0, 1, true, false));
   settings.time_step.contact = time.number_or("contact_factor", settings.time_step.contact, Range::between(0, 1, true, false));
   if (const auto integration = root.find("integration")) {
-    integration->allow_only({"flip", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
+    // The old per-step blend has no Δt-independent meaning: name its replacement instead of refusing it
+    // as an unknown key.
+    if (const auto flip = integration->find("flip"))
+      flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": \"apic\" (the default) or "
+                 "{\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
+                 "r = -ln(f) / dt)");
+    integration->allow_only({"transfer", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
+    if (const auto transfer = integration->find("transfer")) settings.transfer = read_transfer(*transfer);
     if (const auto drive = integration->find("homogeneous_drive")) settings.homogeneous_drive = read_homogeneous_drive(*drive);
     settings.skip_strain_increment =
         integration->number_or("skip_strain_increment", settings.skip_strain_increment, Range::at_least(0));
-    settings.flip = integration->number_or("flip", settings.flip, Range::between(0, 1, false, false));
     settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
   }
   const JsonNode grid = root.at("grid", "an object with cell_size and cells");

@@ -32,7 +32,7 @@ inline const char* const kScene = R"({
   "grid": {"origin": [-0.1, 0], "cell_size": 0.05, "cells": [16, 12]},
   "time": {"end": 0.01, "output_interval": 0.005, "series_interval": 0.001, "max_time_step": 1e-3, "cfl": 0.3,
            "contact_factor": 0.2},
-  "integration": {"flip": 0.9, "sort_interval": 10, "skip_strain_increment": 1e-12},
+  "integration": {"transfer": {"flip_pic": {"pic_rate": 10}}, "sort_interval": 10, "skip_strain_increment": 1e-12},
   "effects": {"gravity": true, "boundary_friction": true},
   "gravity": {"g": [0.5, -9.81], "ramp": {"from": [0, 0], "start": 0, "end": 0.05}},
   "materials": [{"name": "stiff", "law": "elastic", "density": 1500, "young": 2e6, "poisson": 0.25},

@@ -1,5 +1,6 @@
 // Cubic B-spline stencils: partition of unity and zero gradient sum everywhere in the grid,
-// including the first and last cell (the ghost ring), and agreement with the closed-form spline.
+// including the first and last cell (the ghost ring), agreement with the closed-form spline, and
+// APIC's D_p = h²/3 I there too.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -28,6 +29,7 @@ TEST(BSpline, PartitionOfUnityAndZeroGradientSumUpToTheBorder) {
     const Stencil s = stencil_at(grid, x);
     double sum = 0;
     Vec2 grad_sum = Vec2::Zero(), first_moment = Vec2::Zero();
+    Mat2 second_moment = Mat2::Zero();
     for (int b = 0; b < 4; ++b)
       for (int a = 0; a < 4; ++a) {
         const std::size_t node = s.first_node + a + b * grid.nodes_x();
@@ -39,11 +41,16 @@ TEST(BSpline, PartitionOfUnityAndZeroGradientSumUpToTheBorder) {
         sum += N;
         grad_sum += Vec2(s.gx[a] * s.wy[b], s.wx[a] * s.gy[b]);
         first_moment += N * xn;
+        const Vec2 d(s.dx[a], s.dy[b]);
+        EXPECT_NEAR((d - (xn - x)).norm(), 0.0, 1e-14);
+        second_moment += N * d * d.transpose();
       }
     EXPECT_NEAR(sum, 1.0, 1e-14);
     EXPECT_NEAR(grad_sum.norm(), 0.0, 1e-12);
     // Cubic B-splines also reproduce linear fields: Σ N x_i = x.
     EXPECT_NEAR((first_moment - x).norm(), 0.0, 1e-14);
+    // and quadratic ones up to h²/3: D_p is the same constant for every point, border cells included.
+    EXPECT_NEAR((second_moment - affine_inertia(0.1) * Mat2::Identity()).norm(), 0.0, 1e-15);
   }
 }
 

@@ -10,7 +10,7 @@ namespace {
 
 TEST(ElasticColumn, SelfWeightStressProfile) {
   const double h = 0.05, width = 0.4, height = 1.0, base = 0.1, rho = 1000, g = 9.81;
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 12, 24), rho, 5e6, 0.0, 0.0);
+  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 12, 24), rho, 5e6, 0.0, testing::pure_pic());
   seed_region(solver, 0, rectangle(Vec2(0.1, base), Vec2(0.1 + width, base + height)), 2);
   solver.add_obstacle(Obstacle(Polyline{{Vec2(-1, base), Vec2(2, base)}, false}, ContactParameters{1e6, 0, 0, 1.0}));
   solver.set_gravity(Gravity{Vec2(0, -g), GravityRamp{Vec2::Zero(), 0.0, 0.3}});

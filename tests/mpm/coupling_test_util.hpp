@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 
@@ -61,7 +62,7 @@ inline dem::DemCell stored_template(const std::filesystem::path& dir, std::int64
 // plus a little pure shear, so every point sees a different but smooth increment.
 inline Solver block_with(std::unique_ptr<ConstitutiveLaw> law, double shear_rate = 2.0, double stretch_rate = 0.5) {
   SolverSettings settings;
-  settings.flip = 0.0;
+  settings.transfer = {VelocityTransfer::Kind::flip_pic, std::numeric_limits<double>::infinity()};  // pure PIC
   Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), settings);
   solver.add_law(std::move(law));
   for (int j = 0; j < 4; ++j)

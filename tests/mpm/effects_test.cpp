@@ -80,7 +80,7 @@ TEST_F(SceneOnLibrary, OtherEffectsThanTheLibrarysAreRefused) {
 
 TEST(Effects, AFrictionlessBoundaryKeepsNoFrictionHistory) {
   for (const double friction : {0.0, 0.5}) {
-    Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 6, 6), 1000, 1e5, 0.3, 0.95);
+    Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 6, 6), 1000, 1e5, 0.3);
     solver.add_point(0, Vec2(0.3, 0.13), 0.0025, 0.025, Vec2(0.1, -0.1));
     solver.add_obstacle(Obstacle(Polyline{{Vec2(0, 0.1), Vec2(0.6, 0.1)}, false}, {1e5, 1e5, friction, 0.5}));
     for (int k = 0; k < 3; ++k) solver.step(1e-4);

@@ -94,7 +94,7 @@ TEST(HomogeneousLive, SceneDrivesEveryPointWithItsVelocityGradient) {
   auto scene = [](const std::string& drive) {
     return R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
       "time": {"end": 0.01, "output_interval": 0.01},
-      "integration": {"flip": 0, "homogeneous_drive": )" + drive + R"(},
+      "integration": {"transfer": "pic", "homogeneous_drive": )" + drive + R"(},
       "materials": [{"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
       "regions": [{"material": "a", "rectangle": {"min": [0.3, 0.3], "max": [0.6, 0.5]}, "points_per_cell": 2}]})";
   };

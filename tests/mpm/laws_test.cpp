@@ -48,7 +48,7 @@ TEST(ElasticLaw, ARigidRotationTurnsTheStressByItsAngle) {
 TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
   const double phi = 30 * std::numbers::pi / 180, c = 1000;
   DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, phi, c, 500});
-  const double t = std::tan(phi), root = std::sqrt(9 + 12 * t * t), eta = 3 * t / root, xi = 3 / root;
+  const double eta = std::sin(phi), xi = std::cos(phi);
   PointStress trial;
   trial.in_plane << -5000, 8000, 8000, -3000;
   trial.zz = -4000;
@@ -64,6 +64,34 @@ TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
   inside.zz = -4500;
   const PointStress same = law.return_map(inside);
   EXPECT_NEAR((same.in_plane - inside.in_plane).norm(), 0, 1e-9);
+}
+
+TEST(DruckerPrager, SteadyPlaneStrainFlowIsMohrCoulomb) {
+  // Plane-strain biaxial test without cohesion: from an isotropic 10 kPa, isochoric compression
+  // along y and extension along x (principal axes in plane) until the stress no longer changes.
+  // In steady flow the stress ratio (σ1 − σ3)/(σ1 + σ3) of the compressive principal stresses must
+  // be Mohr–Coulomb's sin φ.
+  for (double degrees : {20.0, 30.0, 40.0}) {
+    SCOPED_TRACE(degrees);
+    const double phi = degrees * std::numbers::pi / 180;
+    const DruckerPragerParameters parameters{{5e6, 0.3}, phi, 0, 0};
+    const DruckerPragerLaw law(1500, parameters);
+    PointStress s;
+    s.in_plane = -1e4 * Mat2::Identity();
+    s.zz = -1e4;
+    Mat2 F_inc = Mat2::Identity();
+    F_inc(0, 0) = 1 + 1e-5;
+    F_inc(1, 1) = 1 / (1 + 1e-5);
+    PointStress previous = s;
+    for (int k = 0; k < 20000; ++k) {
+      previous = s;
+      s = law.return_map(elastic_predictor(parameters.elasticity, s, F_inc));
+    }
+    EXPECT_NEAR((s.in_plane - previous.in_plane).norm(), 0, 1e-6 * 1e4) << "not yet steady";
+    const double sigma1 = -s.in_plane(1, 1), sigma3 = -s.in_plane(0, 0);
+    EXPECT_NEAR(s.in_plane(0, 1), 0, 1e-9);
+    EXPECT_NEAR((sigma1 - sigma3) / (sigma1 + sigma3), std::sin(phi), 1e-6);
+  }
 }
 
 TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {

@@ -21,7 +21,7 @@ TEST(LiveLaw, PointsReproduceStandAloneCellsDrivenByTheSameIncrements) {
   LiveDemSettings settings;
   settings.substepping = {0.1, 1, 0.2};
   SolverSettings solver_settings;
-  solver_settings.flip = 0.0;
+  solver_settings.transfer = testing::pure_pic();
   Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), solver_settings);
   solver.add_law(std::make_unique<LiveDemLaw>(cell_template, settings));
   // 6 × 6 points (2 per cell) in simple shear v_x = γ̇ (y - y_c), plus a little stretching.

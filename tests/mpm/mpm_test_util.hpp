@@ -1,7 +1,10 @@
 // Helpers shared by the MPM tests: small scenes built through the solver's C++ interface.
 #pragma once
+#include <limits>
 #include <map>
 #include <memory>
+#include <numbers>
+#include <string>
 
 #include "core/elastic_law.hpp"
 #include "core/seeding.hpp"
@@ -9,16 +12,43 @@
 
 namespace grainbank::mpm::testing {
 
-inline SolverSettings settings_with_flip(double flip) {
+// The velocity transfers: APIC (the default), the FLIP/PIC blend with a PIC fraction per second,
+// pure FLIP (rate 0) and pure PIC (rate ∞).
+inline VelocityTransfer apic() { return {}; }
+inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate}; }
+inline VelocityTransfer pure_flip() { return flip_pic(0); }
+inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>::infinity()); }
+
+inline std::string describe(const VelocityTransfer& t) {
+  return t.kind == VelocityTransfer::Kind::apic ? "apic" : "flip_pic, pic_rate " + std::to_string(t.pic_rate) + "/s";
+}
+
+inline SolverSettings settings_with(const VelocityTransfer& transfer) {
   SolverSettings s;
-  s.flip = flip;
+  s.transfer = transfer;
   return s;
 }
 
 // A solver with one elastic law (index 0).
-inline Solver elastic_solver(const Grid& grid, double density, double young, double poisson, double flip) {
-  Solver solver(grid, settings_with_flip(flip));
+inline Solver elastic_solver(const Grid& grid, double density, double young, double poisson,
+                             const VelocityTransfer& transfer = apic()) {
+  Solver solver(grid, settings_with(transfer));
   solver.add_law(std::make_unique<ElasticLaw>(density, Elasticity{young, poisson}));
+  return solver;
+}
+
+// A free elastic bar (length 1 m, E = 100 Pa, ρ = 1 kg/m³, ν = 0: period 0.2 s) over 8 cells of 4 × 16
+// points, vibrating in its first mode v = 0.01 cos(π x / L) m/s.
+constexpr double kBarPeriod = 0.2;
+inline Solver vibrating_bar(const VelocityTransfer& transfer) {
+  const double length = 1, h = length / 8;
+  Solver solver = elastic_solver(Grid(Vec2(0, 0), h, 12, 6), 1, 100, 0.0, transfer);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 16; ++i) {
+      const double xi = (i + 0.5) / 16;
+      solver.add_point(0, Vec2(2 * h + xi * length, 2 * h + (j + 0.5) * h / 2), h * h / 4, h / 4,
+                       Vec2(0.01 * std::cos(std::numbers::pi * xi), 0));
+    }
   return solver;
 }
 

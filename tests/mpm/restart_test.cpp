@@ -1,5 +1,6 @@
 // A run interrupted by a restart file (written, then read into a solver rebuilt from the same scene)
-// continues exactly like the uninterrupted run: points, live DEM cells and obstacle friction history.
+// continues exactly like the uninterrupted run: points (with APIC's affine velocity), live DEM cells
+// and obstacle friction history.
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
@@ -50,11 +51,16 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
     EXPECT_EQ(a.id, b.id);
     EXPECT_EQ(a.position, b.position);
     EXPECT_EQ(a.velocity, b.velocity);
+    EXPECT_EQ(a.affine_velocity, b.affine_velocity);
     EXPECT_EQ(a.stress.in_plane, b.stress.in_plane);
     EXPECT_EQ(a.stress.zz, b.stress.zz);
     EXPECT_EQ(a.volume, b.volume);
   }
   EXPECT_EQ(resumed.obstacles()[0].tangential_history(), reference.obstacles()[0].tangential_history());
+  // The points carried an affine velocity (APIC), so the file had to carry it.
+  double affine = 0;
+  for (const MaterialPoint& mp : first.points()) affine = std::max(affine, mp.affine_velocity.norm());
+  EXPECT_GT(affine, 0);
   // Friction was really active, so its history mattered.
   double friction = 0;
   for (double f : reference.obstacles()[0].tangential_history()) friction = std::max(friction, std::abs(f));

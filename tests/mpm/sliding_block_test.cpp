@@ -14,7 +14,7 @@ TEST(SlidingBlock, AccelerationOnAnInclinedFrictionalLine) {
   const double theta = std::numbers::pi / 6, mu = 0.2, g = 9.81;
   const Vec2 down(std::cos(theta), -std::sin(theta)), up_normal(std::sin(theta), std::cos(theta));
   const Vec2 top(0.1, 1.2);
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0.6), 0.025, 40, 32), 1000, 1e7, 0.3, 0.95);
+  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0.6), 0.025, 40, 32), 1000, 1e7, 0.3);
   solver.add_obstacle(Obstacle(Polyline{{top, top + 2.5 * down}, false}, ContactParameters{1e6, 1e6, mu, 0.5}));
   solver.set_gravity(Gravity{Vec2(0, -g), std::nullopt});
   // Lifted by one disk radius (0.00625 m) so that no point starts overlapping the line.

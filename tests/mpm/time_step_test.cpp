@@ -11,7 +11,7 @@ namespace {
 
 TEST(TimeStep, IsTheMinimumOfTheCriteria) {
   const double h = 0.1, rho = 1000, young = 1e6;
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 10, 10), rho, young, 0.0, 1.0);
+  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), h, 10, 10), rho, young, 0.0);
   seed_region(solver, 0, rectangle(Vec2(0.2, 0.2), Vec2(0.6, 0.6)), 2, Vec2(3, 4));
   const double wave = 0.3 * h / (std::sqrt(young / rho) + 5);
   EXPECT_NEAR(solver.time_step_limits().wave, wave, 1e-15);
@@ -33,7 +33,7 @@ TEST(TimeStep, IsTheMinimumOfTheCriteria) {
 }
 
 TEST(TimeStep, RemovedObstacleNoLongerLimits) {
-  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), 0.1, 10, 10), 1000, 1e6, 0.0, 1.0);
+  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), 0.1, 10, 10), 1000, 1e6, 0.0);
   seed_region(solver, 0, rectangle(Vec2(0.2, 0.2), Vec2(0.6, 0.6)), 2);
   solver.add_obstacle(Obstacle(Polyline{{Vec2(0, 0.1), Vec2(1, 0.1)}, false}, ContactParameters{1e9, 0, 0, 0},
                                Vec2::Zero(), 1e-6));

@@ -1,0 +1,85 @@
+"""Scene of the planar cohesionless column collapse of Lube et al. (2005) for mpm_solver: a
+Drucker–Prager column (φ = 30°, c = 0, ρ = 1500 kg/m³, E = 5 MPa, ν = 0.3) of width L0 and height
+a L0 against a back wall, on a base with friction 0.5 (walls 0.3, as the example scenes), held by a
+gate removed at t = 0.02 s. The same setup as tests/mpm/granular_column.hpp (the CI test).
+
+  python3 column_scene.py OUT.json --aspect-ratio A [--width L0] [--cell-size H] [--points-per-cell N]
+                          [--cfl C] [--end T] [--transfer apic|pic|RATE]
+"""
+import argparse
+import json
+import math
+from pathlib import Path
+
+GATE_REMOVAL = 0.02  # [s]
+DENSITY, YOUNG, POISSON, FRICTION_ANGLE = 1500.0, 5e6, 0.3, 30.0
+
+
+def lube_runout(a):
+    """ΔL/L0 of Lube et al. 2005 (planar): 1.2 a for a ≲ 1.8, 1.9 a^(2/3) above."""
+    return 1.2 * a if a <= 1.8 else 1.9 * a ** (2.0 / 3.0)
+
+
+def p_wave_modulus():
+    lam = YOUNG * POISSON / ((1 + POISSON) * (1 - 2 * POISSON))
+    return lam + YOUNG / (1 + POISSON)
+
+
+def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer="apic"):
+    L0, H0 = width, a * width
+    base = wall = 2 * h
+    cells_x = math.ceil((wall + L0 * (1 + 2 * lube_runout(a)) + 2 * h) / h)
+    cells_y = math.ceil((base + H0 + 2 * h) / h)
+    # Base and walls as stiff as the material over one cell: sqrt(k_n / m_p) = c_p / h.
+    k_n = p_wave_modulus() / ppc**2
+    top = base + H0 + h
+    contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
+    end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
+    return {
+        "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
+        "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
+        "integration": {"transfer": transfer},
+        "effects": {"gravity": True, "boundary_friction": True},
+        "gravity": {"g": [0, -9.81]},
+        "materials": [{"name": "sand", "law": "drucker_prager", "density": DENSITY, "young": YOUNG,
+                       "poisson": POISSON, "friction_angle": FRICTION_ANGLE}],
+        "regions": [{"material": "sand", "rectangle": {"min": [wall, base], "max": [wall + L0, base + H0]},
+                     "points_per_cell": ppc}],
+        "obstacles": [
+            {"line": [[-1, base], [cells_x * h + 1, base]], **contact(0.5)},
+            {"line": [[wall, base], [wall, top]], **contact(0.3)},
+            {"line": [[wall + L0, base], [wall + L0, top]], **contact(0.3), "remove_at": GATE_REMOVAL},
+        ],
+    }
+
+
+def geometry(a, width=0.2, h=0.02, ppc=2):
+    """Where the column starts: wall x, base y, L0, H0 and the point radius (to turn point centres
+    into the material's edge)."""
+    return {"wall": 2 * h, "base": 2 * h, "L0": width, "H0": a * width, "radius": h / (2 * ppc)}
+
+
+def transfer_arg(text):
+    if text in ("apic", "pic"):
+        return text
+    return {"flip_pic": {"pic_rate": float(text)}}
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--aspect-ratio", type=float, required=True)
+    parser.add_argument("--width", type=float, default=0.2)
+    parser.add_argument("--cell-size", type=float, default=0.02)
+    parser.add_argument("--points-per-cell", type=int, default=2)
+    parser.add_argument("--cfl", type=float, default=0.3)
+    parser.add_argument("--end", type=float)
+    parser.add_argument("--transfer", type=transfer_arg, default="apic", help="apic, pic or a PIC rate [1/s]")
+    args = parser.parse_args()
+    s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer)
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(s, indent=2) + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,134 @@
+"""Validation of the cohesionless column collapse against the planar experiments of Lube et al.
+(2005): runout ΔL/L0 and final height H∞/H0 at aspect ratios a = 0.5, 1, 2, 3, measured at rest
+(kinetic energy below 1e-4 of its peak), and their convergence with the grid size h, the points per
+cell and the time step. Runs mpm_solver on scenes from column_scene.py, one after another.
+
+  /usr/bin/python3 study.py OUT [--build BUILD] [--threads N] [--quick]
+
+Writes OUT/<case>/ (scene and run), OUT/results.json, OUT/results.md and OUT/runout.png. --quick runs
+only the coarse a = 1 case (a smoke test of the workflow).
+"""
+import argparse
+import json
+import resource
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import column_scene
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+from plotting.tables import read_csv  # noqa: E402
+
+REST = 1e-4  # kinetic energy / its peak
+WIDTH = 0.2  # L0 [m]
+
+
+def cases(quick):
+    """(name, aspect ratio, h, points per cell, CFL) of the study."""
+    if quick:
+        return [("a1_h0.02_ppc2", 1.0, 0.02, 2, 0.3)]
+    out = [(f"a{a:g}_h0.01_ppc2", a, 0.01, 2, 0.3) for a in (0.5, 1.0, 2.0, 3.0)]
+    out += [(f"a{a:g}_h{h:g}_ppc2", a, h, 2, 0.3) for a in (1.0, 2.0) for h in (0.02, 0.005)]
+    out += [(f"a1_h0.01_ppc{n}", 1.0, 0.01, n, 0.3) for n in (1, 3)]
+    out += [(f"a1_h0.01_ppc2_cfl{c:g}", 1.0, 0.01, 2, c) for c in (0.15, 0.5)]
+    return out
+
+
+def at_rest(series, gate):
+    """Index of the first row after the gate's removal whose kinetic energy is below REST of the peak
+    so far; None when the run never gets there."""
+    peak = 0.0
+    for k, (t, e) in enumerate(zip(series["t"], series["kinetic_energy"])):
+        peak = max(peak, e)
+        if t > gate and e < REST * peak:
+            return k
+    return None
+
+
+def run_case(out, build, threads, name, a, h, ppc, cfl):
+    folder = out / name
+    folder.mkdir(parents=True, exist_ok=True)
+    scene_file = folder / "scene.json"
+    scene_file.write_text(json.dumps(column_scene.scene(a, WIDTH, h, ppc, cfl), indent=2) + "\n")
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    start = time.monotonic()
+    subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(folder / "run"),
+                    "--threads", str(threads)], check=True, stdout=subprocess.DEVNULL)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    series = read_csv(folder / "run" / "series.csv")
+    g = column_scene.geometry(a, WIDTH, h, ppc)
+    k = at_rest(series, column_scene.GATE_REMOVAL)
+    result = {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl,
+              "cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
+              "wall_s": time.monotonic() - start, "steps": int(series["step"][-1]),
+              "lube_runout": column_scene.lube_runout(a)}
+    if k is None:
+        result.update(at_rest=False, rest_time=None, runout=None, final_height=None)
+    else:
+        front = series["front"][k] + g["radius"]
+        height = series["max_height"][k] + g["radius"]
+        runout = (front - g["wall"] - g["L0"]) / g["L0"]
+        result.update(at_rest=True, rest_time=float(series["t"][k]), runout=float(runout),
+                      final_height=float((height - g["base"]) / g["H0"]),
+                      runout_error=float(runout / column_scene.lube_runout(a) - 1))
+    return result
+
+
+def table(results):
+    lines = ["| case | a | h [m] | ppc | CFL | at rest [s] | ΔL/L0 | Lube | error | H∞/H0 | CPU [s] |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        if r["at_rest"]:
+            lines.append(f"| {r['case']} | {r['a']:g} | {r['h']:g} | {r['points_per_cell']} | {r['cfl']:g} | "
+                         f"{r['rest_time']:.2f} | {r['runout']:.3f} | {r['lube_runout']:.2f} | "
+                         f"{100 * r['runout_error']:+.1f} % | {r['final_height']:.3f} | {r['cpu_s']:.0f} |")
+        else:
+            lines.append(f"| {r['case']} | {r['a']:g} | {r['h']:g} | {r['points_per_cell']} | {r['cfl']:g} | "
+                         f"not at rest | | {r['lube_runout']:.2f} | | | {r['cpu_s']:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot(results, file):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    a = np.linspace(0.3, 3.3, 200)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot(a, [column_scene.lube_runout(x) for x in a], "k-", label="Lube et al. 2005")
+    ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
+                    color="0.85", label="±30 %")
+    for h, marker in ((0.02, "s"), (0.01, "o"), (0.005, "^")):
+        pts = [(r["a"], r["runout"]) for r in results
+               if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3]
+        if pts:
+            ax.plot(*zip(*pts), marker, label=f"APIC, h = {h:g} m (L0/h = {WIDTH / h:.0f})")
+    ax.set_xlabel("aspect ratio a = H0/L0")
+    ax.set_ylabel("runout ΔL/L0")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=120)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--build", type=Path, default=HERE.parent.parent / "build")
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--quick", action="store_true")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    results = []
+    for case in cases(args.quick):
+        results.append(run_case(args.out, args.build.resolve(), args.threads, *case))
+        print(json.dumps(results[-1]), flush=True)
+        (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n")
+        (args.out / "results.md").write_text(table(results))
+    plot(results, args.out / "runout.png")
+
+
+if __name__ == "__main__":
+    main()
