@@ -11,6 +11,7 @@
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
 #include "core/live_cell_model.hpp"
+#include "dem/dem_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {
@@ -30,13 +31,7 @@ dem::Mat3 unrelaxed_response(const dem::DemCell& cell, const dem::Mat3& directio
 }
 
 TEST(CellWaveSpeed, SimpleCubicLatticeHasTheExactAffineBulkModulus) {
-  dem::Material material;
-  material.density = 2650;
-  material.contact.k_n = 1e5;
-  material.contact.k_t = 5e4;
-  material.contact.restitution = 0.5;
-  material.contact.friction = 0.5;
-  material.contact.contact_weight = 1.0;
+  const dem::Material material = dem::test::small_material();  // no bonds: contacts carry the full k_n
   const double R = 5e-4, spacing = 2 * R * (1 - 1e-4);  // touching, with a small overlap
   const int n = 4;
   std::vector<dem::Vec3> positions;
