@@ -3,6 +3,9 @@
 //
 // Kinematics: x = h s. Velocities split into the affine part L x (L = ḣ h⁻¹) and the fluctuation v';
 // when L changes the fluctuation is kept, i.e. the affine change applies to every sphere at once.
+// Spins split the same way, ω = w + ω' with w the cell's spin (W x = w × x, W = skew L): a change of
+// L spins every grain up by the change of w at once, so a cell switched to a rigid rotation turns its
+// grains with it instead of making its contacts slip by w × ℓ until friction has spun them up.
 // Fluctuations obey m dv'/dt = f - m Lᵀ v' = f - m (D - W) v': the stretching D exchanges exactly
 // V σ_kinetic : D with the fluctuations (as SLLOD), while the spin W only turns them with the cell, so
 // a rigidly rotated cell behaves as the unrotated one (objectivity; SLLOD's -W v' is a Coriolis term).
