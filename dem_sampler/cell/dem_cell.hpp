@@ -65,7 +65,7 @@ class DemCell {
   static DemCell from_packing(const Mat3& h, const std::vector<Vec3>& positions, const std::vector<double>& radii,
                               const Material& material, double skin);
 
-  // Seed Eq. 3 for this cell's lightest sphere.
+  // Seed Eq. 3 for this cell's lightest sphere, over its stiffest mode (see dem_time_step).
   double time_step(double q_t) const;
 
   // Drives h from its current value h0 to F_inc h0 over `duration` at the constant velocity gradient
@@ -138,7 +138,7 @@ class DemCell {
   Material material_;
   InteractionCoefficients coef_;
   double skin_;
-  double max_radius_ = 0, min_mass_ = 0;
+  double max_radius_ = 0, min_mass_ = 0, min_radius_ = 0;
   double local_damping_ = 0;
 
   Mat3 h_, h_inv_, h_ref_, L_ = Mat3::Zero();

@@ -66,7 +66,7 @@ void DemCell::compute_forces(double dt) {
     torque_[j] -= arm_j * n_x_ft;
     if constexpr (Rolling) {
       if (touching) {
-        update_rolling_moment(coef_, (wj - wi) * dt, ri * rj / rsum, fn_contact, rolling_[k]);
+        update_rolling_moment(coef_, n, twist, (wj - wi) * dt, ri * rj / rsum, fn_contact, rolling_[k]);
         torque_[j] += rolling_[k];
         torque_[i] -= rolling_[k];
       } else {
