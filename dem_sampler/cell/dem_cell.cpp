@@ -136,8 +136,14 @@ void DemCell::set_friction(double mu) {
 IncrementResult DemCell::advance(const Mat3& increment, double duration, const Substepping& q) {
   if (!increment.allFinite() || !(increment.determinant() > 0))
     throw std::invalid_argument("advance: the deformation increment must be finite with a positive determinant");
-  if (!(q.q_t > 0) || !(q.q_sigma >= 0 && q.q_sigma <= 1))
-    throw std::invalid_argument("advance: expected Q_t > 0 and Q_sigma in [0, 1]");
+  if (!(q.q_t > 0 && q.q_t <= kMaxTimeStepFactor)) {
+    std::ostringstream msg;
+    msg << "advance: substepping.q_t: expected a number in (0, " << kMaxTimeStepFactor
+        << "] (larger steps are unstable on dense bonded packings), got " << q.q_t;
+    throw std::invalid_argument(msg.str());
+  }
+  if (!(q.q_sigma >= 0 && q.q_sigma <= 1))
+    throw std::invalid_argument("advance: expected Q_sigma in [0, 1]");
   const long n = substep_count(duration, time_step(q.q_t), q.q_n);
   const double dt = duration / static_cast<double>(n);
   // Constant velocity gradient over the increment, h(t) = exp(t G) h0 with G = log F_inc: a rotation
