@@ -99,7 +99,7 @@ dem::PreparationSpec read_preparation(const JsonNode& node) {
   s.unbalanced_force_tolerance = node.number_or("unbalanced_force_tolerance", s.unbalanced_force_tolerance, kPositive);
   s.inertial_number = node.number_or("inertial_number", s.inertial_number, Range::between(0, 0.1, true, false));
   s.local_damping = node.number_or("local_damping", s.local_damping, Range::between(0, 1, false, true));
-  s.q_t = node.number_or("q_t", s.q_t, Range::between(0, 0.3, true, false));
+  s.q_t = node.number_or("q_t", s.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
   s.skin = node.number_or("skin", s.skin, Range::between(0, 1, true, false));
   s.max_steps = static_cast<long>(node.integer_or("max_steps", s.max_steps, 1));
   return s;

@@ -47,7 +47,7 @@ dem::Substepping read_substepping(const JsonNode& root) {
   const auto node = root.find("substepping");
   if (!node) return q;
   node->allow_only({"q_t", "q_n", "q_sigma"});
-  q.q_t = node->number_or("q_t", q.q_t, Range::between(0, 0.3, true, false));
+  q.q_t = node->number_or("q_t", q.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
   q.q_n = static_cast<int>(node->integer_or("q_n", q.q_n, 1, 1'000'000));
   q.q_sigma = node->number_or("q_sigma", q.q_sigma, Range::between(0, 1, true, false));
   return q;

@@ -32,7 +32,7 @@ struct CellState {
   std::vector<double> radius;
   std::vector<Vec3> reduced_position;     // s (not necessarily wrapped)
   std::vector<Vec3> velocity;             // fluctuating velocity v' = v - L x [m/s]
-  std::vector<Vec3> angular_velocity;     // ω [rad/s]
+  std::vector<Vec3> angular_velocity;     // spin fluctuation ω' = ω - w(L), w the cell's spin [rad/s]
   std::vector<Vec3> force, torque;        // at the current positions (velocity Verlet needs them)
   std::vector<Pair> pairs;                // sorted by (i, j)
   std::vector<Bond> bonds;                // parallel to pairs, or empty when bonds are off

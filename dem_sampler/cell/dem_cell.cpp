@@ -53,7 +53,7 @@ DemCell::DemCell(CellState st, Material material, double skin)
   mass_.resize(n);
   inv_mass_.resize(n);
   inv_inertia_.resize(n);
-  min_mass_ = std::numeric_limits<double>::max();
+  min_mass_ = min_radius_ = std::numeric_limits<double>::max();
   for (std::size_t p = 0; p < n; ++p) {
     const double r = radius_[p];
     if (!(r > 0) || !std::isfinite(r)) {
@@ -66,6 +66,7 @@ DemCell::DemCell(CellState st, Material material, double skin)
     inv_inertia_[p] = 1 / (0.4 * mass_[p] * r * r);
     max_radius_ = std::max(max_radius_, r);
     min_mass_ = std::min(min_mass_, mass_[p]);
+    min_radius_ = std::min(min_radius_, r);
   }
   h_ = st.h;
   h_inv_ = h_.inverse();
@@ -118,7 +119,10 @@ DemCell DemCell::from_packing(const Mat3& h, const std::vector<Vec3>& positions,
   return DemCell(std::move(st), material, skin);
 }
 
-double DemCell::time_step(double q_t) const { return dem_time_step(q_t, min_mass_, material_.contact.k_n); }
+double DemCell::time_step(double q_t) const {
+  const double k_r = material_.effects.rolling ? material_.rolling.stiffness : 0;
+  return dem_time_step(q_t, min_mass_, min_radius_, material_.contact.k_n, material_.contact.k_t, k_r);
+}
 
 void DemCell::set_friction(double mu) {
   if (!(mu >= 0) || !std::isfinite(mu)) throw std::invalid_argument("friction: expected a number >= 0");
@@ -132,8 +136,14 @@ void DemCell::set_friction(double mu) {
 IncrementResult DemCell::advance(const Mat3& increment, double duration, const Substepping& q) {
   if (!increment.allFinite() || !(increment.determinant() > 0))
     throw std::invalid_argument("advance: the deformation increment must be finite with a positive determinant");
-  if (!(q.q_t > 0) || !(q.q_sigma >= 0 && q.q_sigma <= 1))
-    throw std::invalid_argument("advance: expected Q_t > 0 and Q_sigma in [0, 1]");
+  if (!(q.q_t > 0 && q.q_t <= kMaxTimeStepFactor)) {
+    std::ostringstream msg;
+    msg << "advance: substepping.q_t: expected a number in (0, " << kMaxTimeStepFactor
+        << "] (larger steps are unstable on dense bonded packings), got " << q.q_t;
+    throw std::invalid_argument(msg.str());
+  }
+  if (!(q.q_sigma >= 0 && q.q_sigma <= 1))
+    throw std::invalid_argument("advance: expected Q_sigma in [0, 1]");
   const long n = substep_count(duration, time_step(q.q_t), q.q_n);
   const double dt = duration / static_cast<double>(n);
   // Constant velocity gradient over the increment, h(t) = exp(t G) h0 with G = log F_inc: a rotation

@@ -3,6 +3,9 @@
 //
 // Kinematics: x = h s. Velocities split into the affine part L x (L = ḣ h⁻¹) and the fluctuation v';
 // when L changes the fluctuation is kept, i.e. the affine change applies to every sphere at once.
+// Spins split the same way, ω = w + ω' with w the cell's spin (W x = w × x, W = skew L): a change of
+// L spins every grain up by the change of w at once, so a cell switched to a rigid rotation turns its
+// grains with it instead of making its contacts slip by w × ℓ until friction has spun them up.
 // Fluctuations obey m dv'/dt = f - m Lᵀ v' = f - m (D - W) v': the stretching D exchanges exactly
 // V σ_kinetic : D with the fluctuations (as SLLOD), while the spin W only turns them with the cell, so
 // a rigidly rotated cell behaves as the unrotated one (objectivity; SLLOD's -W v' is a Coriolis term).
@@ -62,7 +65,7 @@ class DemCell {
   static DemCell from_packing(const Mat3& h, const std::vector<Vec3>& positions, const std::vector<double>& radii,
                               const Material& material, double skin);
 
-  // Seed Eq. 3 for this cell's lightest sphere.
+  // Seed Eq. 3 for this cell's lightest sphere, over its stiffest mode (see dem_time_step).
   double time_step(double q_t) const;
 
   // Drives h from its current value h0 to F_inc h0 over `duration` at the constant velocity gradient
@@ -135,7 +138,7 @@ class DemCell {
   Material material_;
   InteractionCoefficients coef_;
   double skin_;
-  double max_radius_ = 0, min_mass_ = 0;
+  double max_radius_ = 0, min_mass_ = 0, min_radius_ = 0;
   double local_damping_ = 0;
 
   Mat3 h_, h_inv_, h_ref_, L_ = Mat3::Zero();

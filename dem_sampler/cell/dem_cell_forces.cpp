@@ -13,6 +13,7 @@ void DemCell::compute_forces(double dt) {
   double sum_force = 0;
   std::int64_t active = 0;
   const Mat3 L = L_;
+  const Vec3 cell_spin = spin_vector(L);
   const std::size_t count = pairs_.size();
   for (std::size_t k = 0; k < count; ++k) {
     Pair& p = pairs_[k];
@@ -33,7 +34,7 @@ void DemCell::compute_forces(double dt) {
     const Vec3 n = l * (1 / r);  // one division, not one per component
     const double gap = r - rsum;
     const double arm_i = ri + 0.5 * gap, arm_j = rj + 0.5 * gap;  // to the contact point
-    const Vec3 wi = omega_[i], wj = omega_[j];
+    const Vec3 wi = omega_[i] + cell_spin, wj = omega_[j] + cell_spin;
     // Velocity of j's contact point relative to i's: fluctuations, affine field L ℓ, and spins.
     const Vec3 v = u_[j] - u_[i] + L * l - (arm_i * wi + arm_j * wj).cross(n);
     const double vn = v.dot(n);
@@ -65,7 +66,7 @@ void DemCell::compute_forces(double dt) {
     torque_[j] -= arm_j * n_x_ft;
     if constexpr (Rolling) {
       if (touching) {
-        update_rolling_moment(coef_, (wj - wi) * dt, ri * rj / rsum, fn_contact, rolling_[k]);
+        update_rolling_moment(coef_, n, twist, (wj - wi) * dt, ri * rj / rsum, fn_contact, rolling_[k]);
         torque_[j] += rolling_[k];
         torque_[i] -= rolling_[k];
       } else {

@@ -101,11 +101,17 @@ inline bool add_bond_force(const InteractionCoefficients& c, Bond& bond, double 
   return true;
 }
 
-// Rolling resistance (optional): incremental moment M <- M - k_r (ω_j - ω_i) δt, capped by
-// μ_r R_ij f_n with R_ij = R_i R_j / (R_i + R_j). Returns the moment acting on j.
-inline void update_rolling_moment(const InteractionCoefficients& c, const Vec3& relative_rotation,
-                                  double radius_ij, double normal_force, Vec3& moment) {
-  moment -= c.rolling_stiffness * relative_rotation;
+// Rolling resistance (optional): a rolling spring M <- R(M) - k_r Δθ_r, Δθ_r = ((ω_j - ω_i) δt)⊥n the
+// relative rolling rotation of the step, capped by μ_r R_ij f_n with R_ij = R_i R_j / (R_i + R_j).
+// M stays ⟂ n and turns with the contact frame like the tangential spring, so a rigidly rotating pair
+// carries its moment along and loads no new one. Twisting about n is not resisted: the model has no
+// twisting law (RollingLaw holds k_r and μ_r only), and a twist must not eat into the rolling cap.
+// The moment acts on j; i receives -M.
+inline void update_rolling_moment(const InteractionCoefficients& c, const Vec3& n, double twist,
+                                  const Vec3& relative_rotation, double radius_ij, double normal_force,
+                                  Vec3& moment) {
+  rotate_with_contact_frame(moment, n, twist);
+  moment -= c.rolling_stiffness * (relative_rotation - relative_rotation.dot(n) * n);
   const double cap = c.rolling_friction * radius_ij * std::max(normal_force, 0.0);
   const double m2 = moment.squaredNorm();
   if (m2 > cap * cap) moment *= cap / std::sqrt(m2);

@@ -29,7 +29,8 @@ void check(const PreparationSpec& s) {
   if (!(s.inertial_number > 0 && s.inertial_number <= 0.1))
     fail("inertial_number", "a number in (0, 0.1]", s.inertial_number);
   if (!(s.local_damping >= 0 && s.local_damping < 1)) fail("local_damping", "a number in [0, 1)", s.local_damping);
-  if (!(s.q_t > 0 && s.q_t <= 0.3)) fail("q_t", "a number in (0, 0.3]", s.q_t);
+  static_assert(kMaxTimeStepFactor == 0.2, "the message below names the bound");
+  if (!(s.q_t > 0 && s.q_t <= kMaxTimeStepFactor)) fail("q_t", "a number in (0, 0.2]", s.q_t);
   if (!(s.skin > 0 && s.skin <= 1)) fail("skin", "a number in (0, 1]", s.skin);
   if (s.max_steps < 1) fail("max_steps", "a positive number", static_cast<double>(s.max_steps));
 }

@@ -135,7 +135,7 @@ LiveDemSettings read_live_settings(const JsonNode& node) {
   LiveDemSettings s;
   if (const auto sub = node.find("substepping")) {
     sub->allow_only({"q_t", "q_n", "q_sigma"});
-    s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, 0.3, true, false));
+    s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
     s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
     s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
   }

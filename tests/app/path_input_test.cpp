@@ -55,7 +55,9 @@ INSTANTIATE_TEST_SUITE_P(
         ErrorCase{"UnknownKey", with(kGoodPath, "/substeping", 1),
                   {"/substeping: unknown key", "segments, record_interval, substepping"}},
         ErrorCase{"SubstepCountZero", with(kGoodPath, "/substepping/q_n", 0),
-                  {"/substepping/q_n: expected an integer in [1, 1000000], got 0"}}),
+                  {"/substepping/q_n: expected an integer in [1, 1000000], got 0"}},
+        ErrorCase{"TimeStepFactorAboveStableRange", with(kGoodPath, "/substepping/q_t", 0.25),
+                  {"/substepping/q_t: expected a number in (0, 0.2]", "got 0.25"}}),
     testing::case_name);
 
 TEST(PathInput, GoodFileReadsBackInPlaneStrain) {

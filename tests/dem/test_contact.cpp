@@ -146,15 +146,28 @@ TEST(TwoSphereCollision, GrazingSpheresStayOutOfContact) {
   EXPECT_GT(cell.positions()[0].x(), cell.positions()[1].x()) << "the spheres should have passed each other";
 }
 
-TEST(TimeStep, SeedEquation3ForLightestSphere) {
-  // δt = Q_t π sqrt(m_min / k_n), m_min from the smallest radius and the density.
-  const Material mat = small_material();
+TEST(TimeStep, SeedEquation3ForStiffestModeOfLightestSphere) {
+  // δt = Q_t π sqrt(m_min / k_max), m_min from the smallest radius R and the density, k_max the
+  // stiffest mode of that sphere (I = 2/5 m R²): normal k_n; tangential k_t (1 + m R²/I) = 3.5 k_t, as
+  // the spring at the contact point moves centre and spin together; rolling, δt = Q_t π sqrt(I / k_r).
   const std::vector<double> r = {0.6e-3, 0.41e-3, 0.5e-3};
   const std::vector<Vec3> x = {Vec3(1e-3, 1e-3, 1e-3), Vec3(4e-3, 4e-3, 4e-3), Vec3(7e-3, 7e-3, 7e-3)};
-  DemCell cell(fresh_state(10e-3 * Mat3::Identity(), x, r), mat, 0.1e-3);
   const double m_min = 2650 * 4.0 / 3.0 * std::numbers::pi * std::pow(0.41e-3, 3);
-  for (double q : {0.05, 0.1, 0.2})
-    EXPECT_NEAR(cell.time_step(q), q * std::numbers::pi * std::sqrt(m_min / 1e5), 1e-14 * cell.time_step(q));
+  const double i_min = 0.4 * m_min * 0.41e-3 * 0.41e-3;
+  auto step = [&](const Material& mat, double q) {
+    return DemCell(fresh_state(10e-3 * Mat3::Identity(), x, r), mat, 0.1e-3).time_step(q);
+  };
+  Material mat = small_material();
+  for (double q : {0.05, 0.1, 0.2}) {
+    mat.contact.k_t = 0.2e5;  // 3.5 k_t < k_n: the normal mode is the stiffest
+    EXPECT_NEAR(step(mat, q), q * std::numbers::pi * std::sqrt(m_min / 1e5), 1e-14 * step(mat, q));
+    mat.contact.k_t = 0.5e5;  // 3.5 k_t > k_n: the tangential-rotational mode is
+    EXPECT_NEAR(step(mat, q), q * std::numbers::pi * std::sqrt(m_min / (3.5 * 0.5e5)), 1e-14 * step(mat, q));
+    mat.effects.rolling = true;
+    mat.rolling = {0.1, 0.1};  // k_r / I far above 3.5 k_t / m: the rolling mode is
+    EXPECT_NEAR(step(mat, q), q * std::numbers::pi * std::sqrt(i_min / 0.1), 1e-14 * step(mat, q));
+    mat.effects.rolling = false;
+  }
 }
 
 TEST(KineticStress, DiluteGasGivesMinusSumOfMvvOverVolume) {

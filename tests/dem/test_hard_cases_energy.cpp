@@ -83,7 +83,8 @@ TEST(EnergyBalance, ElasticFrictionlessUndampedCellStoresExactlyTheWorkOfItsDefo
     std::printf("Q_t = %.3f: W = %.4e J, dK = %.4e J, dU = %.4e J, |W - dK - dU| / W = %.2e\n", 0.1 / refine, b.work,
                 b.delta_kinetic, b.delta_elastic, residual[k]);
     ASSERT_GT(b.work, 0);
-    EXPECT_GT(b.delta_kinetic, 0.05 * b.work) << "the drive must agitate the spheres, not only load springs";
+    // The fluctuations must take a share of the work far above the residuals checked below (< 2e-2).
+    EXPECT_GT(b.delta_kinetic, 0.03 * b.work) << "the drive must agitate the spheres, not only load springs";
   }
   EXPECT_LT(residual[0], 2e-2);
   EXPECT_LT(residual[1], 1e-3);

@@ -182,7 +182,8 @@ TEST(HardCases, RadiusRatioOneToFivePacksShearsAndKeepsEveryContact) {
               report.final.coordination);
   ASSERT_GT(*rmax / *rmin, 4.0);
   EXPECT_NEAR(pressure_of(report.final.stress), spec.pressure, 2 * spec.pressure_tolerance * spec.pressure);
-  EXPECT_NEAR(cell.time_step(0.1), dem_time_step(0.1, sphere_mass(mat, *rmin), mat.contact.k_n), 1e-18);
+  EXPECT_NEAR(cell.time_step(0.1),
+              dem_time_step(0.1, sphere_mass(mat, *rmin), *rmin, mat.contact.k_n, mat.contact.k_t, 0), 1e-18);
   EXPECT_LT(cell.max_overlap(), kLargeOverlap);
   IncrementResult res;
   for (int k = 0; k < 30; ++k) {  // γ = 0.6, through a flip

@@ -183,24 +183,65 @@ TEST(Substepping, CountIsMinimalExactAndAtLeastQn) {
   EXPECT_THROW(substep_count(-1e-3, 1e-6, 1), std::invalid_argument);
 }
 
-// Adds the rigid spin Ω to every sphere's angular velocity (the state seen in a frame turning with Ω).
-DemCell with_spin(const DemCell& c, const Vec3& omega) {
-  CellState st = c.state();
-  for (Vec3& w : st.angular_velocity) w += omega;
-  return DemCell(std::move(st), c.material(), c.skin());
-}
-
-// The same cell turned rigidly about z at rate ω for `increments` increments (spheres spinning with
-// it, as material turning rigidly does), and left at rest for the same time: the like-for-like pair.
+// The same cell turned rigidly about z at rate ω for `increments` increments, and left at rest for the
+// same time: the like-for-like pair. The grains have no spin of their own: switching L to the rotation
+// must spin them with the cell (ω = w + ω'), as material turning rigidly does.
 std::pair<DemCell, DemCell> turn_rigidly(const DemCell& loaded, double omega, double duration, int increments,
                                          const Substepping& q) {
-  DemCell turning = with_spin(loaded, Vec3(0, 0, omega));
+  DemCell turning = loaded;
   DemCell resting = loaded;
   for (int k = 0; k < increments; ++k) {
     turning.advance(rotation_z(omega * duration), duration, q);
     resting.advance(Mat3::Identity(), duration, q);
   }
   return {std::move(turning), std::move(resting)};
+}
+
+// A 3x3x3 simple cubic lattice of equal bonded spheres at rest, pressed together along x only (overlap
+// `overlap`, gap 1% of the diameter along y and z): every sphere is in equilibrium by symmetry, the
+// stress is uniaxial, bonds are stress-free and no tangential spring is loaded.
+DemCell pressed_bonded_lattice(double overlap) {
+  const Material mat = small_material(true);
+  const double r = 0.5e-3, ax = 2 * r - overlap, a = 2.02 * r;
+  std::vector<Vec3> x;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      for (int k = 0; k < 3; ++k) x.emplace_back((i + 0.5) * ax, (j + 0.5) * a, (k + 0.5) * a);
+  DemCell cell(fresh_state(Vec3(3 * ax, 3 * a, 3 * a).asDiagonal(), x, std::vector<double>(x.size(), r)), mat,
+               0.1e-3);
+  cell.create_bonds(mat.bond.bonding_distance);
+  return cell;
+}
+
+TEST(Objectivity, SwitchingARestingBondedPackingToRigidRotationSpinsItsGrainsWithTheCell) {
+  // From rest, with grains that do not spin, L jumps to a rigid rotation about z. The grains must take
+  // the cell's spin at once: then nothing slips (bond shear displacements and contact springs stay
+  // zero), nothing moves relative to the cell and the stress is the rotated copy R σ Rᵀ. If the grains
+  // keep ω = 0, every contact slips by w × ℓ δt per step and the bonds are sheared.
+  const double overlap = 2e-6;
+  DemCell cell = pressed_bonded_lattice(overlap);
+  const std::int64_t bonds = cell.measures().bonds;
+  ASSERT_EQ(bonds, 3 * 27) << "test design: every lattice neighbour bonded";
+  ASSERT_EQ(cell.contact_count(), 27u) << "test design: contacts along x only";
+  const Mat3 s0 = cell.measures().stress;
+  const double fn = small_material(true).contact.contact_weight * small_material(true).contact.k_n * overlap;
+  ASSERT_GT(-s0(0, 0), 0);
+  const double omega = 20, duration = 5e-5;
+  const int increments = 524;  // ≈ 30°
+  for (int k = 0; k < increments; ++k) cell.advance(rotation_z(omega * duration), duration, Substepping{});
+  const CellState st = cell.state();
+  double largest_shear = 0, largest_ft = 0;
+  for (const Bond& b : st.bonds) largest_shear = std::max(largest_shear, b.shear_displacement.norm());
+  for (const Pair& p : st.pairs) largest_ft = std::max(largest_ft, p.ft.norm());
+  EXPECT_EQ(cell.measures().bonds, bonds);
+  EXPECT_LT(largest_shear, 1e-9 * overlap) << "bond shear displacement from a rigid rotation";
+  EXPECT_LT(largest_ft, 1e-9 * fn) << "tangential contact spring from a rigid rotation";
+  const Mat3 r = rotation_z(omega * duration * increments);
+  // 1e-6: the affine velocity at a step's end, (I - exp(-δt W))/δt, carries a stretching δt w²/2 that
+  // the normal dashpots feel, c_n δt w² |ℓ| / 2 ≈ 2e-7 of the normal force here.
+  EXPECT_LT((cell.measures().stress - r * s0 * r.transpose()).norm(), 1e-6 * s0.norm())
+      << "stress:\n" << cell.measures().stress << "\nR σ0 Rᵀ:\n" << r * s0 * r.transpose();
+  EXPECT_LT(cell.measures().kinetic_energy, 1e-20) << "fluctuations from a rigid rotation";
 }
 
 TEST(Objectivity, RigidRotationOfLoadedCellRotatesItsStress) {
@@ -262,8 +303,8 @@ TEST(Objectivity, RigidRotationOfFrictionlessCellRotatesItsStress) {
 }
 
 // Two heavy spheres (kinematically driven) overlapping by `overlap` along x, with a tangential spring
-// force built by sliding sphere 1 by `slide` (⊥ x); returned at rest, spinning with `spin`.
-DemCell loaded_contact(double overlap, const Vec3& slide, const Vec3& spin) {
+// force built by sliding sphere 1 by `slide` (⊥ x); returned at rest, without spin of their own.
+DemCell loaded_contact(double overlap, const Vec3& slide) {
   Material mat = small_material();
   mat.density = 2650e9;
   mat.contact.restitution = 1;
@@ -277,7 +318,7 @@ DemCell loaded_contact(double overlap, const Vec3& slide, const Vec3& spin) {
   for (int k = 0; k < steps; ++k) cell.step_with_velocity_gradient(Mat3::Zero(), dt);
   CellState st = cell.state();
   st.velocity.assign(2, Vec3::Zero());
-  st.angular_velocity.assign(2, spin);
+  st.angular_velocity.assign(2, Vec3::Zero());
   return DemCell(std::move(st), mat, 0.1e-3);
 }
 
@@ -291,11 +332,11 @@ void turn(DemCell& cell, const Vec3& axis, double angle, double omega) {
 }
 
 TEST(Objectivity, ContactTangentialForceTurnsWithPairTwistingAboutItsNormal) {
-  // Both spheres spin with Ω about the contact normal n = x while the cell turns by the same rate
-  // about x: the pair moves as one rigid body, so its tangential spring force must turn with it,
+  // The cell turns at Ω about the contact normal n = x and the spheres take its spin: the pair moves
+  // as one rigid body, so its tangential spring force must turn with it,
   // f_t -> R f_t (DESIGN.md: tangential history "rotated with the contact frame").
   const double omega = 1000, angle = std::numbers::pi / 2;  // fast: the heavy spheres barely move meanwhile
-  DemCell cell = loaded_contact(5e-6, Vec3(0, 1e-6, 0), Vec3(omega, 0, 0));
+  DemCell cell = loaded_contact(5e-6, Vec3(0, 1e-6, 0));
   const Vec3 ft0 = cell.state().pairs.at(0).ft;
   ASSERT_GT(ft0.norm(), 1e-3) << "test design: a loaded tangential spring";
   turn(cell, Vec3::UnitX(), angle, omega);
@@ -306,11 +347,11 @@ TEST(Objectivity, ContactTangentialForceTurnsWithPairTwistingAboutItsNormal) {
 }
 
 TEST(Objectivity, RigidRotationOfOverlappingPairDoesNotSlipItsContact) {
-  // The pair along x turns rigidly about z (spins Ω z, cell turning at Ω about z): the contact point
-  // moves with both spheres, so there is no slip and f_t -> R f_t. A slip Ω × n (|ℓ| - R_i - R_j)
+  // The pair along x turns rigidly about z (cell turning at Ω about z, spheres taking its spin): the
+  // contact point moves with both spheres, so there is no slip and f_t -> R f_t. A slip Ω × n (|ℓ| - R_i - R_j)
   // appears if the spin lever arms are the radii rather than the distances to the contact point.
   const double omega = 1000, angle = std::numbers::pi / 6, overlap = 5e-6;
-  DemCell cell = loaded_contact(overlap, Vec3(0, 0.5e-6, 0.5e-6), Vec3(0, 0, omega));
+  DemCell cell = loaded_contact(overlap, Vec3(0, 0.5e-6, 0.5e-6));
   const Vec3 ft0 = cell.state().pairs.at(0).ft;
   ASSERT_GT(ft0.norm(), 1e-3);
   turn(cell, Vec3::UnitZ(), angle, omega);
