@@ -39,6 +39,22 @@ std::string hdf5_message() {
   return text;
 }
 
+// A read of a file shorter than the space HDF5 allocated in it fails on zeros ("bad object header
+// version", a checksum): the note names the cause. Empty when the file is whole or `id` is no object
+// of an open file.
+std::string truncation_note(hid_t id, const std::filesystem::path& file) {
+  const hid_t file_id = H5Iget_file_id(id);
+  haddr_t allocated = 0;
+  const bool known = file_id >= 0 && H5Fget_eoa(file_id, &allocated) >= 0;
+  if (file_id >= 0) H5Fclose(file_id);
+  H5Eclear2(H5E_DEFAULT);
+  std::error_code error;
+  const auto size = std::filesystem::file_size(file, error);
+  if (!known || error || allocated <= size) return "";
+  return " (the file is truncated: " + std::to_string(size) + " bytes of the " + std::to_string(allocated) +
+         " HDF5 allocated)";
+}
+
 std::string child_path(const Object& parent, const std::string& name) {
   if (name.starts_with('/')) return name;
   return parent.name() == "/" ? "/" + name : parent.name() + "/" + name;
@@ -150,7 +166,8 @@ Object::Object(Object&& other) noexcept
     : id_(std::exchange(other.id_, -1)), close_(other.close_), file_(std::move(other.file_)), name_(std::move(other.name_)) {}
 
 void Object::fail(const std::string& what) const {
-  throw StoreError(file_, name_ + ": " + what + ": " + hdf5_message());
+  const std::string message = hdf5_message();
+  throw StoreError(file_, name_ + ": " + what + ": " + message + truncation_note(id_, file_));
 }
 
 Object create_file(const std::filesystem::path& file) {
