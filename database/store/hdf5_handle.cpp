@@ -39,20 +39,27 @@ std::string hdf5_message() {
   return text;
 }
 
-// A read of a file shorter than the space HDF5 allocated in it fails on zeros ("bad object header
-// version", a checksum): the note names the cause. Empty when the file is whole or `id` is no object
-// of an open file.
-std::string truncation_note(hid_t id, const std::filesystem::path& file) {
+// The size of the file holding object `id` when it is shorter than the space HDF5 allocated in it,
+// else 0 (also when that cannot be told). With `read_only`, 0 for a file this process writes: what
+// it reads there may not be flushed yet.
+hsize_t cut_size(hid_t id, const std::filesystem::path& file, bool read_only) {
   const hid_t file_id = H5Iget_file_id(id);
+  unsigned intent = 0;
   haddr_t allocated = 0;
-  const bool known = file_id >= 0 && H5Fget_eoa(file_id, &allocated) >= 0;
+  const bool known = file_id >= 0 && H5Fget_intent(file_id, &intent) >= 0 && H5Fget_eoa(file_id, &allocated) >= 0;
   if (file_id >= 0) H5Fclose(file_id);
   H5Eclear2(H5E_DEFAULT);
   std::error_code error;
-  const auto size = std::filesystem::file_size(file, error);
-  if (!known || error || allocated <= size) return "";
-  return " (the file is truncated: " + std::to_string(size) + " bytes of the " + std::to_string(allocated) +
-         " HDF5 allocated)";
+  const std::uintmax_t size = std::filesystem::file_size(file, error);
+  if (!known || error || (read_only && (intent & H5F_ACC_RDWR))) return 0;
+  return allocated > size ? size : 0;
+}
+
+// A read of a file shorter than the space HDF5 allocated in it fails on zeros ("bad object header
+// version", a checksum): the note names the cause.
+std::string truncation_note(hid_t id, const std::filesystem::path& file) {
+  const hsize_t size = cut_size(id, file, false);
+  return size ? " (the file is truncated: " + std::to_string(size) + " bytes, less than HDF5 allocated)" : "";
 }
 
 std::string child_path(const Object& parent, const std::string& name) {
@@ -110,18 +117,6 @@ void allow_concurrent_writer(const Object& fapl) {
   ignore_writer_state(fapl);
 }
 
-// The size of a file opened read-only when it is shorter than the space HDF5 allocated in it, else 0.
-hsize_t cut_size(const Object& dataset) {
-  const Object file(H5Iget_file_id(dataset.id()), H5Fclose, dataset.file(), "/");
-  unsigned intent = 0;
-  haddr_t allocated = 0;
-  if (H5Fget_intent(file.id(), &intent) < 0 || H5Fget_eoa(file.id(), &allocated) < 0)
-    dataset.fail("cannot read the file's intent and allocated size");
-  if (intent & H5F_ACC_RDWR) return 0;  // this process writes it: what it reads may not be flushed yet
-  const hsize_t size = std::filesystem::file_size(dataset.file());
-  return allocated > size ? size : 0;
-}
-
 [[noreturn]] void fail_beyond_end(const Object& dataset, haddr_t end, hsize_t size) {
   throw StoreError(dataset.file(), dataset.name() + ": data beyond the end of the file (truncated: the file has " +
                                        std::to_string(size) + " bytes, the data ends at " + std::to_string(end) + ")");
@@ -130,7 +125,7 @@ hsize_t cut_size(const Object& dataset) {
 // Raw data read from a file cut short must lie before the cut: beyond it HDF5 reads zeros, which
 // contiguous arrays do not check and Fletcher-32 accepts (its checksum of zeros is zero).
 void require_on_disk(const Object& dataset, hsize_t first_row, hsize_t rows, hsize_t columns) {
-  const hsize_t size = cut_size(dataset);
+  const hsize_t size = cut_size(dataset.id(), dataset.file(), true);
   if (size == 0 || rows == 0) return;
   const haddr_t offset = H5Dget_offset(dataset.id());
   if (offset != HADDR_UNDEF) {  // contiguous
