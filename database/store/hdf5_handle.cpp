@@ -39,6 +39,29 @@ std::string hdf5_message() {
   return text;
 }
 
+// The size of the file holding object `id` when it is shorter than the space HDF5 allocated in it,
+// else 0 (also when that cannot be told). With `read_only`, 0 for a file this process writes: what
+// it reads there may not be flushed yet.
+hsize_t cut_size(hid_t id, const std::filesystem::path& file, bool read_only) {
+  const hid_t file_id = H5Iget_file_id(id);
+  unsigned intent = 0;
+  haddr_t allocated = 0;
+  const bool known = file_id >= 0 && H5Fget_intent(file_id, &intent) >= 0 && H5Fget_eoa(file_id, &allocated) >= 0;
+  if (file_id >= 0) H5Fclose(file_id);
+  H5Eclear2(H5E_DEFAULT);
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(file, error);
+  if (!known || error || (read_only && (intent & H5F_ACC_RDWR))) return 0;
+  return allocated > size ? size : 0;
+}
+
+// A read of a file shorter than the space HDF5 allocated in it fails on zeros ("bad object header
+// version", a checksum): the note names the cause.
+std::string truncation_note(hid_t id, const std::filesystem::path& file) {
+  const hsize_t size = cut_size(id, file, false);
+  return size ? " (the file is truncated: " + std::to_string(size) + " bytes, less than HDF5 allocated)" : "";
+}
+
 std::string child_path(const Object& parent, const std::string& name) {
   if (name.starts_with('/')) return name;
   return parent.name() == "/" ? "/" + name : parent.name() + "/" + name;
@@ -72,17 +95,57 @@ bool open_in_this_process(const std::filesystem::path& file) {
   return false;
 }
 
-// Readers must neither block the shard's writer nor fail while it writes, but HDF5 1.10 refuses both
-// ways: by a file lock, and by the "open for write" flag a writer sets in the superblock. Readers
-// take no lock and ignore the flag in their in-memory copy of the superblock (the property h5clear
-// uses; the file is not touched). This is safe because readers follow committed rows only, which
-// the writer flushed before committing and never changes afterwards. (A file this process already
-// has open is shared by HDF5, which then insists on the settings it was opened with.)
+// Readers must neither block the shard's writer nor fail while it writes or after it was killed, but
+// HDF5 1.10 refuses all three: by a file lock, by the "open for write" flag a writer sets in the
+// superblock, and when the file is shorter than the space the superblock allocates (a writer killed
+// in its flush, after the superblock reached the disk and before the data it allocated did).
+// Readers take no lock, ignore the flag in their in-memory copy of the superblock and skip the size
+// check (the properties h5clear uses; the file is not touched: extending it under a live writer
+// could cut off what it writes meanwhile). This is safe because readers follow committed rows only,
+// which the writer flushed before committing and never changes afterwards, so they lie within the
+// file; the bytes beyond its end would read as zeros, which metadata checksums reject and
+// require_on_disk() refuses for raw data. (A file this process already has open is shared by HDF5,
+// which then insists on the settings it was opened with.)
+void ignore_writer_state(const Object& fapl) {
+  hbool_t yes = true;
+  if (H5Pset(fapl.id(), "clear_status_flags", &yes) < 0 || H5Pset(fapl.id(), "skip_eof_check", &yes) < 0)
+    fapl.fail("cannot set the properties of h5clear");
+}
+
 void allow_concurrent_writer(const Object& fapl) {
   if (H5Pset_file_locking(fapl.id(), false, true) < 0) fapl.fail("cannot disable file locking");
-  hbool_t ignore_write_flag = true;
-  if (H5Pset(fapl.id(), "clear_status_flags", &ignore_write_flag) < 0)
-    fapl.fail("cannot set clear_status_flags");
+  ignore_writer_state(fapl);
+}
+
+[[noreturn]] void fail_beyond_end(const Object& dataset, haddr_t end, hsize_t size) {
+  throw StoreError(dataset.file(), dataset.name() + ": data beyond the end of the file (truncated: the file has " +
+                                       std::to_string(size) + " bytes, the data ends at " + std::to_string(end) + ")");
+}
+
+// Raw data read from a file cut short must lie before the cut: beyond it HDF5 reads zeros, which
+// contiguous arrays do not check and Fletcher-32 accepts (its checksum of zeros is zero).
+void require_on_disk(const Object& dataset, hsize_t first_row, hsize_t rows, hsize_t columns) {
+  const hsize_t size = cut_size(dataset.id(), dataset.file(), true);
+  if (size == 0 || rows == 0) return;
+  const haddr_t offset = H5Dget_offset(dataset.id());
+  if (offset != HADDR_UNDEF) {  // contiguous
+    const haddr_t end = offset + H5Dget_storage_size(dataset.id());
+    if (end > size) fail_beyond_end(dataset, end, size);
+    return;
+  }
+  const Object plist(H5Dget_create_plist(dataset.id()), H5Pclose, dataset.file(), dataset.name());
+  if (H5Pget_layout(plist.id()) != H5D_CHUNKED) return;  // compact: inside the checksummed header
+  hsize_t chunk[2] = {1, columns};
+  H5Pget_chunk(plist.id(), 2, chunk);
+  for (hsize_t row = first_row - first_row % chunk[0]; row < first_row + rows; row += chunk[0]) {
+    const hsize_t at[2] = {row, 0};
+    unsigned filter_mask = 0;
+    haddr_t address = HADDR_UNDEF;
+    hsize_t bytes = 0;
+    if (H5Dget_chunk_info_by_coord(dataset.id(), at, &filter_mask, &address, &bytes) < 0)
+      dataset.fail("cannot locate the chunk of row " + std::to_string(row));
+    if (address != HADDR_UNDEF && address + bytes > size) fail_beyond_end(dataset, address + bytes, size);
+  }
 }
 
 }  // namespace
@@ -98,7 +161,8 @@ Object::Object(Object&& other) noexcept
     : id_(std::exchange(other.id_, -1)), close_(other.close_), file_(std::move(other.file_)), name_(std::move(other.name_)) {}
 
 void Object::fail(const std::string& what) const {
-  throw StoreError(file_, name_ + ": " + what + ": " + hdf5_message());
+  const std::string message = hdf5_message();
+  throw StoreError(file_, name_ + ": " + what + ": " + message + truncation_note(id_, file_));
 }
 
 Object create_file(const std::filesystem::path& file) {
@@ -116,14 +180,15 @@ Object open_file(const std::filesystem::path& file, bool writable) {
 
 namespace {
 
-// Opens with the private properties h5clear uses: the "open for write" flag ignored (and cleared on
-// closing a writable open) and no check of the file size against the space the superblock allocates.
+// Opens with the private properties h5clear uses (as readers do): the "open for write" flag ignored
+// (and cleared on closing a writable open) and no check of the file size against the space the
+// superblock allocates.
 Object open_as_h5clear(const std::filesystem::path& file, bool writable) {
   const Object fapl = file_access();
-  if (!writable) allow_concurrent_writer(fapl);
-  hbool_t yes = true;
-  if (H5Pset(fapl.id(), "clear_status_flags", &yes) < 0 || H5Pset(fapl.id(), "skip_eof_check", &yes) < 0)
-    fapl.fail("cannot set the properties of h5clear");
+  if (writable)
+    ignore_writer_state(fapl);
+  else
+    allow_concurrent_writer(fapl);
   return file_object(H5Fopen(file.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.id()), file,
                      "cannot open the shard even as h5clear does (damaged? run celldb verify)");
 }
@@ -237,6 +302,7 @@ std::vector<T> read_array(const Object& parent, const std::string& name, hsize_t
     throw StoreError(dataset.file(), dataset.name() + ": unexpected shape (expected " +
                                          (columns ? "N x " + std::to_string(columns) : std::string("N")) + ")");
   std::vector<T> data(dims[0] * (columns ? columns : 1));
+  require_on_disk(dataset, 0, dims[0], columns);
   if (!data.empty() && H5Dread(dataset.id(), native_type<T>(), H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data()) < 0)
     dataset.fail("cannot read");
   return data;
@@ -361,6 +427,7 @@ std::vector<double> read_rows(const Object& table, hsize_t first, hsize_t count)
                                        std::to_string(first + count) + " expected");
   std::vector<double> data(count * columns);
   if (count == 0) return data;
+  require_on_disk(table, first, count, columns);
   const Object file_space(H5Dget_space(table.id()), H5Sclose, table.file(), table.name());
   const hsize_t start[2] = {first, 0};
   const hsize_t size[2] = {count, columns};

@@ -37,10 +37,12 @@ class Object {
 };
 
 // Files use the newest format of HDF5 1.10 (checksummed metadata, so corruption is detected rather
-// than misread). Opening refuses foreign files and truncated ones (HDF5 compares the file size with
-// the end of data it recorded).
+// than misread). Opening refuses foreign files; a writable open also refuses truncated ones (HDF5
+// compares the file size with the end of the space it allocated).
 Object create_file(const std::filesystem::path& file);
-// Read-only opens take no file lock: readers never block the one writer of a shard.
+// Read-only opens take no file lock, so readers never block the one writer of a shard, and accept a
+// file shorter than its allocated space, as a writer killed in its flush leaves it: committed data
+// lies before the cut and reads back; a read of data beyond it fails ("truncated").
 Object open_file(const std::filesystem::path& file, bool writable);
 void flush(const Object& file);
 // For a shard no writer has open any more (the caller knows, e.g. by the sampler lock): clears the

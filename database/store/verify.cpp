@@ -129,6 +129,15 @@ void check_stray_files(Library& library, const std::vector<ShardRow>& shards, bo
   }
 }
 
+// A writer killed in its flush, or whose disk filled up, leaves its shard shorter than the space it
+// allocated: what is missing was never committed, so it is an orphan, and repair extends the file.
+Finding cut_short_finding(const std::filesystem::path& shard) {
+  return Finding{Kind::orphan, shard.string(), "",
+                 "file shorter than the space its writer allocated (killed in a flush, or a write failed: disk "
+                 "full?); the missing tail held uncommitted data only",
+                 false};
+}
+
 // Repair runs with every writer stopped, so the state a killed or disk-full writer left in a shard
 // (its "open for write" flag, a file shorter than its allocated space) can be cleared first. A shard
 // that stays unopenable is reported by Shard::open below with HDF5's own reason.
@@ -156,6 +165,7 @@ void check_shard(Library& library, bool repair, VerifyReport& report, const Shar
                                                                                                    snapshots);
     if (repair) shard.flush();
   }
+  if (!repair && h5::cut_short(file)) report.findings.push_back(cut_short_finding(file));
   if (!repair || orphan_groups.empty()) return;
   const bool damaged = std::any_of(report.findings.begin() + static_cast<std::ptrdiff_t>(first_finding),
                                    report.findings.end(), [](const Finding& f) { return f.kind == Kind::inconsistency; });
@@ -194,13 +204,8 @@ VerifyReport verify_library(Library& library, bool repair) {
     try {
       check_shard(library, repair, report, row, templates, paths, snapshots);
     } catch (const StoreError& e) {
-      // A writer whose disk filled up leaves its shard shorter than the space it allocated: what is
-      // missing was never committed, so it is an orphan, and repair extends the file.
       if (!repair && h5::cut_short(library.shard_path(row)))
-        report.findings.push_back(Finding{Kind::orphan, library.shard_path(row).string(), "",
-                                          "file shorter than the space its writer allocated (a write failed: disk "
-                                          "full?); the missing tail held uncommitted data only",
-                                          false});
+        report.findings.push_back(cut_short_finding(library.shard_path(row)));
       else
         report.findings.push_back(Finding{Kind::inconsistency, library.shard_path(row).string(), "", e.what(), false});
     }

@@ -11,6 +11,7 @@
 #include "paths_input.hpp"
 #include "sample_progress.hpp"
 #include "sampler.hpp"
+#include "test_stop_point.hpp"
 #include "common/stop_signals.hpp"
 #include "store/path_queue.hpp"
 #include "store/sampler_lock.hpp"
@@ -84,8 +85,11 @@ Setup set_up(const SampleOptions& options) {
   return setup;
 }
 
-sampler::SampleObserver observe(SampleProgress& progress) {
-  return {[&progress](long n) { progress.commit(n); },
+sampler::SampleObserver observe(SampleProgress& progress, TestStopPoint& stop_point) {
+  return {[&progress, &stop_point](long n) {
+            progress.commit(n);
+            stop_point.committed(n);
+          },
           [&progress](const sampler::PathOutcome& o) { progress.path(o); }};
 }
 
@@ -104,7 +108,9 @@ int report(const sampler::SampleSummary& s, const std::string& where) {
 }
 
 int sample_serial(const SampleOptions& options) {
+  TestStopPoint stop_point;
   Setup setup = set_up(options);
+  stop_point.committed(0);
   db::ShardWriter shard(setup.library, "rank0");
   sampler::LibraryWriter writer(setup.library, shard);
   sampler::ListWorkSource source(setup.pending);
@@ -113,7 +119,7 @@ int sample_serial(const SampleOptions& options) {
   run.commit_batch = options.commit_batch;
   run.stop = &install_stop_signals();
   SampleProgress progress(static_cast<long>(setup.pending.size()), setup.expected_records, isatty(STDERR_FILENO));
-  const sampler::SampleSummary summary = sampler::run_paths(writer, source, run, observe(progress));
+  const sampler::SampleSummary summary = sampler::run_paths(writer, source, run, observe(progress, stop_point));
   progress.finish();
   return report(summary, "on " + std::to_string(run.threads) + " thread(s)");
 }
@@ -122,11 +128,13 @@ int sample_serial(const SampleOptions& options) {
 int sample_mpi(const SampleOptions& options) {
   const sampler::MpiSession mpi(nullptr, nullptr);
   const bool root = mpi.rank() == 0;
+  TestStopPoint stop_point;
   std::optional<Setup> setup;
   std::string error;
   if (root) {
     try {
       setup.emplace(set_up(options));
+      stop_point.committed(0);
     } catch (const std::exception& e) {
       error = e.what();
     }
@@ -152,7 +160,7 @@ int sample_mpi(const SampleOptions& options) {
     SampleProgress progress(root ? static_cast<long>(setup->pending.size()) : 0, 0, false,
                             "rank " + std::to_string(mpi.rank()) + ": ");
     try {
-      local = sampler::run_paths(writer, *source, run, observe(progress));
+      local = sampler::run_paths(writer, *source, run, observe(progress, stop_point));
     } catch (const std::exception& e) {
       error = e.what();
     }

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "store/hdf5_handle.hpp"
 #include "store/sqlite_handle.hpp"
 #include "store_test_util.hpp"
 
@@ -46,6 +47,43 @@ TEST_F(StoreErrors, TruncatedShardNamesTheFile) {
   Library library = Library::open(lib());
   expect_error([&] { library.records(path_id_); }, {shard_file().string(), "truncated"});
   expect_error([&] { library.template_cell(template_id_); }, {shard_file().string()});
+}
+
+// Readers accept a file shorter than the space HDF5 allocated (a writer killed in its flush leaves
+// it so), but data beyond its end reads as zeros, which neither a contiguous array nor Fletcher-32 (its
+// checksum of zeros is zero) rejects: such a read fails, naming the truncation, instead of returning
+// zeros. The file ends with the data read: a contiguous array, then a table's last chunk.
+TEST(CutShortFile, DataBeyondTheEndIsRefusedNotReadAsZeros) {
+  TempDir tmp;
+  const std::filesystem::path file = tmp.path() / "cut.h5";
+  const std::vector<double> values(2048, 1.5);
+  hsize_t array_start = 0, chunk_start = 0;
+  {
+    const h5::Object root = h5::create_file(file);
+    const h5::Object table = h5::create_table(root, "table", 4, 1);
+    h5::append_rows(table, std::vector<double>(8, 2.5));
+    h5::flush(root);
+    h5::write_array(root, "array", values, 0);
+    h5::flush(root);
+    array_start = H5Dget_offset(h5::open_dataset(root, "array").id());
+    h5::append_rows(table, std::vector<double>(4, 3.5));
+    h5::flush(root);
+    haddr_t address = HADDR_UNDEF;
+    const hsize_t last[2] = {2, 0};
+    ASSERT_GE(H5Dget_chunk_info_by_coord(table.id(), last, nullptr, &address, nullptr), 0);
+    chunk_start = address;
+  }
+  ASSERT_GT(chunk_start, array_start + values.size() * sizeof(double) - 1) << "the last chunk is not after the array";
+  std::filesystem::resize_file(file, chunk_start);  // the last chunk is lost
+  {
+    const h5::Object root = h5::open_file(file, false);
+    const h5::Object table = h5::open_dataset(root, "table");
+    EXPECT_EQ(h5::read_rows(table, 0, 2), std::vector<double>(8, 2.5));  // before the cut: read
+    expect_error([&] { h5::read_rows(table, 0, 3); }, {file.string(), "/table", "truncated"});
+  }
+  std::filesystem::resize_file(file, array_start + 8);  // the array is cut
+  const h5::Object root = h5::open_file(file, false);
+  expect_error([&] { h5::read_array<double>(root, "array", 0); }, {file.string(), "/array", "truncated"});
 }
 
 TEST_F(StoreErrors, OverwrittenShardHeaderNamesTheFile) {

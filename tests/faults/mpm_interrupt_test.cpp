@@ -2,12 +2,15 @@
 // OUT/restart.h5 and summary.json ("interrupted": true), exits with status 1 and says how to resume.
 // Resuming with --restart continues exactly like the uninterrupted run: the final restart files of
 // both hold bitwise-equal points (positions, velocities, F, stresses) at the same time and step.
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <sys/stat.h>
+#include <sys/syscall.h>
+#include <unistd.h>
 
 #include <csignal>
-#include <chrono>
 #include <fstream>
-#include <thread>
 
 #include "sampler_test_util.hpp"
 #include "io/restart.hpp"
@@ -69,13 +72,32 @@ TEST_P(MpmInterrupt, WritesARestartThatResumesBitForBit) {
   const int signal = GetParam();
   const TempDir here("gb-mpm-interrupt-run");
   const fs::path scene = here.write("scene.json", kScene), first = here.path() / "first";
+  // The signal reaches the run while it writes its second VTU snapshot (t = 0.1 s of 0.4 s): that file
+  // is a FIFO whose pipe holds less than the snapshot, so the run waits inside the write until the test
+  // has sent the signal and drains it.
+  fs::create_directories(first);
+  const fs::path snapshot = first / "points_000001.vtu";
+  ASSERT_EQ(mkfifo(snapshot.c_str(), 0644), 0);
+  const int fifo = open(snapshot.c_str(), O_RDONLY | O_NONBLOCK);
+  ASSERT_GE(fifo, 0);
+  const int capacity = fcntl(fifo, F_SETPIPE_SZ, 4096);
+  ASSERT_GT(capacity, 0);
   const pid_t child = sampler::test::spawn(mpm_solver(scene, first), here.path());
-  // Signal once the second VTU snapshot (t = 0.1 s of 0.4 s) appears: past the start, far from the end.
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
-  while (!fs::exists(first / "points_000001.vtu") && std::chrono::steady_clock::now() < deadline)
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  const int exited = static_cast<int>(syscall(SYS_pidfd_open, child, 0));  // readable once the run ends
+  ASSERT_GE(exited, 0);
+  pollfd events[2] = {{fifo, POLLIN, 0}, {exited, POLLIN, 0}};
+  ASSERT_GT(poll(events, 2, -1), 0);
+  const bool writing = events[0].revents & POLLIN;
   kill(child, signal);
+  fcntl(fifo, F_SETFL, 0);
+  std::size_t drained = 0;
+  char buffer[1 << 16];
+  for (ssize_t n; writing && (n = read(fifo, buffer, sizeof buffer)) > 0;) drained += static_cast<std::size_t>(n);
+  close(fifo);
+  close(exited);
   const Outcome stopped = sampler::test::wait_for(child, here.path());
+  ASSERT_TRUE(writing) << "the run ended before its second snapshot: " << stopped.err;
+  ASSERT_GT(drained, static_cast<std::size_t>(capacity)) << "the snapshot fits in the pipe: the run did not wait";
 
   EXPECT_EQ(stopped.exit_code, 1) << stopped.err;
   const fs::path restart = first / "restart.h5";

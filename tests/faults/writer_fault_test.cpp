@@ -8,8 +8,6 @@
 #include <unistd.h>
 
 #include <csignal>
-#include <chrono>
-#include <thread>
 
 #include "library_fault_util.hpp"
 
@@ -49,22 +47,14 @@ void expect_recoverable(const fs::path& lib, const fs::path& scratch, const std:
 TEST_F(LibraryFaults, SecondSamplerOnALibraryInUseIsRefused) {
   const fs::path lib = fresh_library("lib");
   const TempDir first_dir("gb-faults-first"), second_dir("gb-faults-second");
-  const pid_t first = sampler::test::spawn(sample_args(lib), first_dir.path());
-  // Wait until the first sampler holds the lock and has a path running.
-  bool running = false;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(20);
-  while (!running && std::chrono::steady_clock::now() < deadline) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(2));
-    try {
-      for (const db::PathRow& row : sampler::test::path_rows(lib)) running |= row.status == db::PathStatus::running;
-    } catch (const std::exception&) {  // paths not registered yet
-    }
-  }
-  ASSERT_TRUE(running);
+  // The first sampler stops itself holding the lock, in its first path (2 records committed): it
+  // cannot finish, and release the lock, before both refusals are in.
+  const pid_t first = sampler::test::spawn_stopped_after(sample_args(lib), first_dir.path(), 2);
   const Outcome second = sampler::test::run(sample_args(lib), second_dir.path());
   const fs::path cell = second_dir.write("cell.json", sampler::test::kCell);
   const Outcome prepare =
       sampler::test::run(sampler::test::dem_sampler({"prepare", cell.string(), "--library", lib.string()}), second_dir.path());
+  kill(first, SIGCONT);
   const Outcome first_outcome = sampler::test::wait_for(first, first_dir.path());
   ASSERT_EQ(first_outcome.exit_code, 0) << first_outcome.err;
 

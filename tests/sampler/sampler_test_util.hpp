@@ -50,8 +50,16 @@ struct Outcome {
   std::string out, err;
 };
 
-// Starts `program args...` with stdout/stderr in files under `dir`; returns its pid.
-inline pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& dir) {
+// Starts `program args...` with stdout/stderr in files under `dir` and `environment` ("NAME=value")
+// added to this process's; returns its pid.
+inline pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::path& dir,
+                   const std::vector<std::string>& environment = {}) {
+  std::vector<char*> args, env;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+  for (char** e = environ; *e; ++e) env.push_back(*e);
+  for (const std::string& e : environment) env.push_back(const_cast<char*>(e.c_str()));
+  env.push_back(nullptr);
   const pid_t pid = fork();
   if (pid < 0) throw std::runtime_error("fork failed");
   if (pid == 0) {
@@ -59,12 +67,23 @@ inline pid_t spawn(const std::vector<std::string>& argv, const std::filesystem::
     const int err = open((dir / "stderr.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     dup2(out, 1);
     dup2(err, 2);
-    std::vector<char*> args;
-    for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
-    args.push_back(nullptr);
-    execv(args[0], args.data());
+    execve(args[0], args.data(), env.data());
     _exit(127);
   }
+  return pid;
+}
+
+// Starts `dem_sampler sample ...` so that it stops itself once it holds the library's sampler lock and
+// has committed `records` records (dem_sampler/app/test_stop_point.hpp), and waits for that stop. The
+// caller then acts while the run is certainly unfinished, and sends SIGCONT or SIGKILL. Throws if
+// the sampler ended instead of stopping (its stderr is in `dir`).
+inline pid_t spawn_stopped_after(const std::vector<std::string>& argv, const std::filesystem::path& dir,
+                                 long records) {
+  const pid_t pid = spawn(argv, dir, {"GRAINBANK_TEST_STOP_AFTER_RECORDS=" + std::to_string(records)});
+  int status = 0;
+  if (waitpid(pid, &status, WUNTRACED) != pid || !WIFSTOPPED(status))
+    throw std::runtime_error("the sampler ended before it stopped after " + std::to_string(records) +
+                             " records; its stderr: " + slurp(dir / "stderr.txt"));
   return pid;
 }
 
