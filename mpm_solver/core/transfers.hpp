@@ -13,7 +13,7 @@ namespace grainbank::mpm {
 // How velocities go from the points to the grid and back.
 struct VelocityTransfer {
   enum class Kind {
-    apic,      // affine PIC: conserves angular momentum, no per-step dissipation
+    apic,      // affine PIC: conserves angular momentum; damps only what affine fields cannot carry
     flip_pic,  // the FLIP/PIC blend of the seed (§2.1)
   };
   Kind kind = Kind::apic;
