@@ -42,10 +42,12 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
   return drive;
 }
 
-// "apic" | "pic" | {"flip_pic": {"pic_rate": r}}, r the PIC fraction per second.
+// "apic" | "pic" | {"apic_flip": {"pic_rate": r}} | {"flip_pic": {"pic_rate": r}}, r the PIC
+// fraction per second.
 VelocityTransfer read_transfer(const JsonNode& node) {
   constexpr std::string_view expected =
-      "\"apic\", \"pic\" or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second)";
+      "\"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the "
+      "PIC fraction per second)";
   VelocityTransfer transfer;
   if (node.value().is_string()) {
     const std::string name = node.string();
@@ -56,10 +58,12 @@ VelocityTransfer read_transfer(const JsonNode& node) {
     return transfer;
   }
   if (!node.value().is_object()) node.fail_expected(expected);
-  node.allow_only({"flip_pic"});
-  const JsonNode blend = node.at("flip_pic", expected);
+  node.allow_only({"apic_flip", "flip_pic"});
+  if (node.value().size() != 1) node.fail_expected(expected);
+  const bool affine = node.has("apic_flip");
+  const JsonNode blend = node.at(affine ? "apic_flip" : "flip_pic", expected);
   blend.allow_only({"pic_rate"});
-  transfer.kind = VelocityTransfer::Kind::flip_pic;
+  transfer.kind = affine ? VelocityTransfer::Kind::apic_flip : VelocityTransfer::Kind::flip_pic;
   transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
   return transfer;
 }

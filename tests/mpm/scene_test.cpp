@@ -57,7 +57,7 @@ TEST(Scene, BuildsTheSolverItDescribes) {
   EXPECT_EQ(s.settings().transfer.kind, VelocityTransfer::Kind::apic);  // the default
 }
 
-TEST(Scene, TransferIsApicPicOrAFlipPicRate) {
+TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
   const std::string from = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
   const auto transfer_of = [&](const std::string& json) {
     std::string text = kScene;
@@ -71,6 +71,12 @@ TEST(Scene, TransferIsApicPicOrAFlipPicRate) {
   EXPECT_EQ(blend.kind, VelocityTransfer::Kind::flip_pic);
   EXPECT_DOUBLE_EQ(blend.pic_rate, 5);
   EXPECT_NEAR(blend.pic_weight(0.01), 1 - std::exp(-0.05), 1e-15);
+  EXPECT_FALSE(blend.affine());
+  const VelocityTransfer affine_blend = transfer_of("{\"apic_flip\": {\"pic_rate\": 2}}");
+  EXPECT_EQ(affine_blend.kind, VelocityTransfer::Kind::apic_flip);
+  EXPECT_TRUE(affine_blend.affine());
+  EXPECT_DOUBLE_EQ(affine_blend.pic_rate, 2);
+  EXPECT_NEAR(affine_blend.pic_weight(0.01), 1 - std::exp(-0.02), 1e-15);
 }
 
 void expect_error(const std::string& from, const std::string& to, const std::string& message) {
@@ -99,10 +105,13 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "(\"plastic\")");
   const std::string time = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
   expect_error(time, time + "\"integration\": {\"transfer\": \"flip\"},",
-               "bad.json: /integration/transfer: expected \"apic\", \"pic\" or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
+               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
                "the PIC fraction per second), got a string (\"flip\")");
   expect_error(time, time + "\"integration\": {\"transfer\": {\"flip_pic\": {\"pic_rate\": -1}}},",
                "bad.json: /integration/transfer/flip_pic/pic_rate: expected a number >= 0, got -1");
+  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 1}, \"flip_pic\": {\"pic_rate\": 1}}},",
+               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or "
+               "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second), got an object");
   // The former per-step blend is refused with its replacement, not as an unknown key.
   expect_error(time, time + "\"integration\": {\"flip\": 0.95},",
                "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": \"apic\" (the "
