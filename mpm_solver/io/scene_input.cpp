@@ -51,9 +51,8 @@ VelocityTransfer read_transfer(const JsonNode& node) {
   VelocityTransfer transfer;
   if (node.value().is_string()) {
     const std::string name = node.string();
-    if (name == "apic") return transfer;
-    if (name != "pic") node.fail_expected(expected);
-    transfer.kind = VelocityTransfer::Kind::flip_pic;
+    if (name != "apic" && name != "pic") node.fail_expected(expected);
+    transfer.kind = name == "apic" ? VelocityTransfer::Kind::apic : VelocityTransfer::Kind::flip_pic;
     transfer.pic_rate = kInfinity;
     return transfer;
   }
@@ -318,8 +317,8 @@ Scene load_scene(const std::filesystem::path& file) {
     // The old per-step blend has no Δt-independent meaning: name its replacement instead of refusing it
     // as an unknown key.
     if (const auto flip = integration->find("flip"))
-      flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": \"apic\" (the default) or "
-                 "{\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
+      flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": {\"pic_rate\": 5}} (the "
+                 "default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
                  "r = -ln(f) / dt)");
     integration->allow_only({"transfer", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
     if (const auto transfer = integration->find("transfer")) settings.transfer = read_transfer(*transfer);

@@ -54,7 +54,8 @@ TEST(Scene, BuildsTheSolverItDescribes) {
   EXPECT_EQ(s.gravity().at(0), Vec2(0, -1));
   ASSERT_EQ(scene.tracked_points.size(), 1u);
   EXPECT_DOUBLE_EQ(scene.series_interval, 0.01);
-  EXPECT_EQ(s.settings().transfer.kind, VelocityTransfer::Kind::apic);  // the default
+  EXPECT_EQ(s.settings().transfer.kind, VelocityTransfer::Kind::apic_flip);  // the default
+  EXPECT_EQ(s.settings().transfer.pic_rate, 5);
 }
 
 TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
@@ -114,8 +115,8 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second), got an object");
   // The former per-step blend is refused with its replacement, not as an unknown key.
   expect_error(time, time + "\"integration\": {\"flip\": 0.95},",
-               "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": \"apic\" (the "
-               "default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: r = "
+               "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": "
+               "{\"pic_rate\": 5}} (the default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: r = "
                "-ln(f) / dt)");
   expect_error("\"cells\": [10, 10]", "\"cells\": [100000, 100000]",
                "bad.json: /grid/cells: expected at most 20000000 cells in all (here n_x * n_y = 10000000000; use a "

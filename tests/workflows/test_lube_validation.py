@@ -20,5 +20,5 @@ class LubeValidationTest(WorkflowTest):
         self.assertIn("| case | a |", (self.out / "results.md").read_text())
         self.assert_png(self.out / "runout.png")
         scene = json.loads((self.out / r["case"] / "scene.json").read_text())
-        self.assertEqual(scene["integration"], {"transfer": "apic"})
+        self.assertEqual(scene["integration"], {"transfer": {"apic_flip": {"pic_rate": 5.0}}})
         self.assertEqual(scene["obstacles"][2]["remove_at"], 0.02)
