@@ -61,21 +61,25 @@ SpinLoss spinning_disk_loss(const VelocityTransfer& transfer, double* dt_out = n
 
 TEST(Transfer, AffineTransfersKeepTheAngularMomentumAndKineticEnergyOfASpinningDisk) {
   const SpinLoss apic = spinning_disk_loss(testing::apic()), apic_flip = spinning_disk_loss(testing::apic_flip(0));
+  const SpinLoss standard = spinning_disk_loss(VelocityTransfer{});  // APIC-FLIP at its default rate
   // The earlier default: 5 % of PIC per step, i.e. a PIC rate −ln(0.95)/Δt.
   double dt = 0;
   spinning_disk_loss(testing::apic(), &dt);
   const SpinLoss blend = spinning_disk_loss(testing::flip_pic(-std::log(0.95) / dt));
   std::printf("1000 steps of a spinning disk: relative change of L and kinetic energy: APIC %.2e %.2e, "
-              "APIC-FLIP at PIC rate 0 %.2e %.2e, blend 0.95 per step %.2e %.2e\n",
+              "APIC-FLIP at PIC rate 0 %.2e %.2e, default %.2e %.2e, blend 0.95 per step %.2e %.2e\n",
               apic.angular_momentum, apic.kinetic_energy, apic_flip.angular_momentum, apic_flip.kinetic_energy,
+              standard.angular_momentum, standard.kinetic_energy,
               blend.angular_momentum, blend.kinetic_energy);
   EXPECT_NEAR(apic.angular_momentum, 0, 1e-10) << "APIC conserves angular momentum exactly";
   // The FLIP update keeps each point's departure from the interpolated grid velocity,
   // v_p − Σ N v_i, whose moment the grid does not see: not exact, but no systematic loss.
   EXPECT_NEAR(apic_flip.angular_momentum, 0, 1e-4);
+  EXPECT_NEAR(standard.angular_momentum, 0, 1e-4);
   // The disk's elastic energy (centrifugal stretch, ρ ω² R² / E ~ 4e-5) bounds the exchange.
   EXPECT_NEAR(apic.kinetic_energy, 0, 1e-3);
   EXPECT_NEAR(apic_flip.kinetic_energy, 0, 1e-3);
+  EXPECT_NEAR(standard.kinetic_energy, 0, 1e-3);
   EXPECT_LT(blend.angular_momentum, -1e-2) << "the test must tell a dissipative transfer";
 }
 
