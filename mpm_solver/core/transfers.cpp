@@ -104,7 +104,7 @@ void update_grid(Grid& grid, const Vec2& gravity) {
 void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
                        double dt, const VelocityTransfer& transfer) {
   const std::size_t stride = grid.nodes_x();
-  const bool apic = transfer.kind == VelocityTransfer::Kind::apic;
+  const bool affine = transfer.affine();
   const double w = transfer.pic_weight(dt);
   const long n = static_cast<long>(points.size());
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
@@ -126,12 +126,8 @@ void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, con
     }
     MaterialPoint& mp = points[p];
     mp.position += dt * v;
-    if (apic) {
-      mp.velocity = v;
-      mp.affine_velocity << b00, b01, b10, b11;
-    } else {
-      mp.velocity = (1 - w) * (mp.velocity + dt * a) + w * v;
-    }
+    mp.velocity = w * v + (1 - w) * (mp.velocity + dt * a);
+    if (affine) mp.affine_velocity << b00, b01, b10, b11;
   }
 }
 

@@ -42,24 +42,27 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
   return drive;
 }
 
-// "apic" | "pic" | {"flip_pic": {"pic_rate": r}}, r the PIC fraction per second.
+// "apic" | "pic" | {"apic_flip": {"pic_rate": r}} | {"flip_pic": {"pic_rate": r}}, r the PIC
+// fraction per second.
 VelocityTransfer read_transfer(const JsonNode& node) {
   constexpr std::string_view expected =
-      "\"apic\", \"pic\" or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second)";
+      "\"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the "
+      "PIC fraction per second)";
   VelocityTransfer transfer;
   if (node.value().is_string()) {
     const std::string name = node.string();
-    if (name == "apic") return transfer;
-    if (name != "pic") node.fail_expected(expected);
-    transfer.kind = VelocityTransfer::Kind::flip_pic;
+    if (name != "apic" && name != "pic") node.fail_expected(expected);
+    transfer.kind = name == "apic" ? VelocityTransfer::Kind::apic : VelocityTransfer::Kind::flip_pic;
     transfer.pic_rate = kInfinity;
     return transfer;
   }
   if (!node.value().is_object()) node.fail_expected(expected);
-  node.allow_only({"flip_pic"});
-  const JsonNode blend = node.at("flip_pic", expected);
+  node.allow_only({"apic_flip", "flip_pic"});
+  if (node.value().size() != 1) node.fail_expected(expected);
+  const bool affine = node.has("apic_flip");
+  const JsonNode blend = node.at(affine ? "apic_flip" : "flip_pic", expected);
   blend.allow_only({"pic_rate"});
-  transfer.kind = VelocityTransfer::Kind::flip_pic;
+  transfer.kind = affine ? VelocityTransfer::Kind::apic_flip : VelocityTransfer::Kind::flip_pic;
   transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
   return transfer;
 }
@@ -314,8 +317,8 @@ Scene load_scene(const std::filesystem::path& file) {
     // The old per-step blend has no Δt-independent meaning: name its replacement instead of refusing it
     // as an unknown key.
     if (const auto flip = integration->find("flip"))
-      flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": \"apic\" (the default) or "
-                 "{\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
+      flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": {\"pic_rate\": 5}} (the "
+                 "default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
                  "r = -ln(f) / dt)");
     integration->allow_only({"transfer", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
     if (const auto transfer = integration->find("transfer")) settings.transfer = read_transfer(*transfer);

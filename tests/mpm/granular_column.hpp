@@ -19,7 +19,7 @@ struct ColumnSetup {
   double cell_size = 0.01;      // h [m]: L0 / h = 20
   int points_per_cell = 2;
   double step_factor = 0.3;     // the CFL number and the contact factor
-  VelocityTransfer transfer = apic();
+  VelocityTransfer transfer;  // the default
 };
 
 struct ColumnResult {

@@ -12,15 +12,18 @@
 
 namespace grainbank::mpm::testing {
 
-// The velocity transfers: APIC (the default), the FLIP/PIC blend with a PIC fraction per second,
-// pure FLIP (rate 0) and pure PIC (rate ∞).
-inline VelocityTransfer apic() { return {}; }
+// The velocity transfers: APIC, the FLIP/PIC blend with APIC's affine velocities, the FLIP/PIC
+// blend with a PIC fraction per second, pure FLIP (rate 0) and pure PIC (rate ∞).
+inline VelocityTransfer apic() { return {VelocityTransfer::Kind::apic}; }
+inline VelocityTransfer apic_flip(double pic_rate) { return {VelocityTransfer::Kind::apic_flip, pic_rate}; }
 inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate}; }
 inline VelocityTransfer pure_flip() { return flip_pic(0); }
 inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>::infinity()); }
 
 inline std::string describe(const VelocityTransfer& t) {
-  return t.kind == VelocityTransfer::Kind::apic ? "apic" : "flip_pic, pic_rate " + std::to_string(t.pic_rate) + "/s";
+  if (t.kind == VelocityTransfer::Kind::apic) return "apic";
+  return (t.kind == VelocityTransfer::Kind::apic_flip ? "apic_flip" : "flip_pic") + std::string(", pic_rate ") +
+         std::to_string(t.pic_rate) + "/s";
 }
 
 inline SolverSettings settings_with(const VelocityTransfer& transfer) {

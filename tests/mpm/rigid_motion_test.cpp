@@ -16,15 +16,19 @@ using testing::positions_by_id;
 using testing::run_until;
 
 TEST(RigidMotion, UniformTranslationIsExactAndStressFree) {
-  Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 20, 10), 1000, 1e6, 0.3);
-  const Vec2 v0(1.0, 0.5);
-  seed_region(solver, 0, rectangle(Vec2(0.2, 0.2), Vec2(0.6, 0.5)), 2, v0);
-  const auto x0 = positions_by_id(solver);
-  run_until(solver, 0.5);
-  for (const MaterialPoint& mp : solver.points()) {
-    EXPECT_NEAR((mp.position - (x0.at(mp.id) + v0 * solver.time())).norm(), 0, 1e-12);
-    EXPECT_NEAR((mp.velocity - v0).norm(), 0, 1e-12);
-    EXPECT_NEAR(mp.stress.in_plane.norm(), 0, 1e-6);  // Pa, against E = 1e6 Pa
+  for (const VelocityTransfer& transfer : {testing::apic(), testing::apic_flip(0), testing::apic_flip(5)}) {
+    SCOPED_TRACE(testing::describe(transfer));
+    Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 20, 10), 1000, 1e6, 0.3, transfer);
+    const Vec2 v0(1.0, 0.5);
+    seed_region(solver, 0, rectangle(Vec2(0.2, 0.2), Vec2(0.6, 0.5)), 2, v0);
+    const auto x0 = positions_by_id(solver);
+    run_until(solver, 0.5);
+    for (const MaterialPoint& mp : solver.points()) {
+      EXPECT_NEAR((mp.position - (x0.at(mp.id) + v0 * solver.time())).norm(), 0, 1e-12);
+      EXPECT_NEAR((mp.velocity - v0).norm(), 0, 1e-12);
+      EXPECT_NEAR(mp.affine_velocity.norm(), 0, 1e-12);
+      EXPECT_NEAR(mp.stress.in_plane.norm(), 0, 1e-6);  // Pa, against E = 1e6 Pa
+    }
   }
 }
 

@@ -2,6 +2,7 @@
 // mpm_solver binary runs a tiny scene end to end and writes its VTU/PVD, CSV and summary files.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -53,6 +54,30 @@ TEST(Scene, BuildsTheSolverItDescribes) {
   EXPECT_EQ(s.gravity().at(0), Vec2(0, -1));
   ASSERT_EQ(scene.tracked_points.size(), 1u);
   EXPECT_DOUBLE_EQ(scene.series_interval, 0.01);
+  EXPECT_EQ(s.settings().transfer.kind, VelocityTransfer::Kind::apic_flip);  // the default
+  EXPECT_EQ(s.settings().transfer.pic_rate, 5);
+}
+
+TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
+  const std::string from = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
+  const auto transfer_of = [&](const std::string& json) {
+    std::string text = kScene;
+    text.replace(text.find(from), from.size(), from + "\"integration\": {\"transfer\": " + json + "},");
+    return io::load_scene(write_file("transfer.json", text)).solver->settings().transfer;
+  };
+  EXPECT_EQ(transfer_of("\"apic\"").kind, VelocityTransfer::Kind::apic);
+  const VelocityTransfer pic = transfer_of("\"pic\""), blend = transfer_of("{\"flip_pic\": {\"pic_rate\": 5}}");
+  EXPECT_EQ(pic.kind, VelocityTransfer::Kind::flip_pic);
+  EXPECT_EQ(pic.pic_weight(1e-6), 1.0);
+  EXPECT_EQ(blend.kind, VelocityTransfer::Kind::flip_pic);
+  EXPECT_DOUBLE_EQ(blend.pic_rate, 5);
+  EXPECT_NEAR(blend.pic_weight(0.01), 1 - std::exp(-0.05), 1e-15);
+  EXPECT_FALSE(blend.affine());
+  const VelocityTransfer affine_blend = transfer_of("{\"apic_flip\": {\"pic_rate\": 2}}");
+  EXPECT_EQ(affine_blend.kind, VelocityTransfer::Kind::apic_flip);
+  EXPECT_TRUE(affine_blend.affine());
+  EXPECT_DOUBLE_EQ(affine_blend.pic_rate, 2);
+  EXPECT_NEAR(affine_blend.pic_weight(0.01), 1 - std::exp(-0.02), 1e-15);
 }
 
 void expect_error(const std::string& from, const std::string& to, const std::string& message) {
@@ -79,6 +104,20 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
   expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
                "bad.json: /materials/0/law: expected \"elastic\", \"drucker_prager\", \"live\", \"cache\" or \"hybrid\", got a string "
                "(\"plastic\")");
+  const std::string time = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
+  expect_error(time, time + "\"integration\": {\"transfer\": \"flip\"},",
+               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
+               "the PIC fraction per second), got a string (\"flip\")");
+  expect_error(time, time + "\"integration\": {\"transfer\": {\"flip_pic\": {\"pic_rate\": -1}}},",
+               "bad.json: /integration/transfer/flip_pic/pic_rate: expected a number >= 0, got -1");
+  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 1}, \"flip_pic\": {\"pic_rate\": 1}}},",
+               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or "
+               "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second), got an object");
+  // The former per-step blend is refused with its replacement, not as an unknown key.
+  expect_error(time, time + "\"integration\": {\"flip\": 0.95},",
+               "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": "
+               "{\"pic_rate\": 5}} (the default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: r = "
+               "-ln(f) / dt)");
   expect_error("\"cells\": [10, 10]", "\"cells\": [100000, 100000]",
                "bad.json: /grid/cells: expected at most 20000000 cells in all (here n_x * n_y = 10000000000; use a "
                "coarser cell_size or a smaller domain), got an array of 2 entries");

@@ -4,7 +4,7 @@ a L0 against a back wall, on a base with friction 0.5 (walls 0.3, as the example
 gate removed at t = 0.02 s. The same setup as tests/mpm/granular_column.hpp (the CI test).
 
   python3 column_scene.py OUT.json --aspect-ratio A [--width L0] [--cell-size H] [--points-per-cell N]
-                          [--cfl C] [--end T] [--transfer apic|pic|RATE]
+                          [--cfl C] [--end T] [--transfer apic|pic|RATE|apic_flip:RATE]
 """
 import argparse
 import json
@@ -25,7 +25,10 @@ def p_wave_modulus():
     return lam + YOUNG / (1 + POISSON)
 
 
-def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer="apic"):
+DEFAULT_TRANSFER = {"apic_flip": {"pic_rate": 5.0}}  # the solver's default
+
+
+def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER):
     L0, H0 = width, a * width
     base = wall = 2 * h
     cells_x = math.ceil((wall + L0 * (1 + 2 * lube_runout(a)) + 2 * h) / h)
@@ -62,6 +65,8 @@ def geometry(a, width=0.2, h=0.02, ppc=2):
 def transfer_arg(text):
     if text in ("apic", "pic"):
         return text
+    if text.startswith("apic_flip:"):
+        return {"apic_flip": {"pic_rate": float(text.split(":", 1)[1])}}
     return {"flip_pic": {"pic_rate": float(text)}}
 
 
@@ -74,7 +79,8 @@ def main():
     parser.add_argument("--points-per-cell", type=int, default=2)
     parser.add_argument("--cfl", type=float, default=0.3)
     parser.add_argument("--end", type=float)
-    parser.add_argument("--transfer", type=transfer_arg, default="apic", help="apic, pic or a PIC rate [1/s]")
+    parser.add_argument("--transfer", type=transfer_arg, default=DEFAULT_TRANSFER,
+                        help="apic, pic, a FLIP/PIC rate [1/s] or apic_flip:RATE (default apic_flip:5)")
     args = parser.parse_args()
     s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer)
     args.out.parent.mkdir(parents=True, exist_ok=True)
