@@ -8,13 +8,6 @@
 namespace grainbank::mpm {
 
 namespace {
-// The plane-strain embedding [[F, 0], [0, 1]], whose logarithm keeps a zero z row.
-dem::Mat3 embedded(const Mat2& F) {
-  dem::Mat3 m = dem::Mat3::Identity();
-  m.topLeftCorner<2, 2>() = F;
-  return m;
-}
-
 // exp(A) of a 2x2 matrix in closed form (Cayley–Hamilton): with A = t I + B, t = tr A / 2 and
 // B² = q I, q = -det B, exp(A) = e^t (cosh √q I + sinh √q / √q B), cos/sin for q < 0. Every MPM
 // point takes one per step, so no series.
@@ -37,6 +30,12 @@ Mat2 exponential(const Mat2& a) {
 }
 }  // namespace
 
+dem::Mat3 embed_plane_strain(const Mat2& F_inc) {
+  dem::Mat3 f = dem::Mat3::Identity();
+  f.topLeftCorner<2, 2>() = F_inc;
+  return f;
+}
+
 KinematicIncrement KinematicIncrement::of_velocity_gradient(const Mat2& L, double dt) {
   if (!(dt > 0)) throw std::invalid_argument("increment: expected a positive time step");
   return {exponential(L * dt), L, dt};
@@ -44,7 +43,7 @@ KinematicIncrement KinematicIncrement::of_velocity_gradient(const Mat2& L, doubl
 
 KinematicIncrement KinematicIncrement::of_deformation(const Mat2& F_inc, double dt) {
   if (!(dt > 0)) throw std::invalid_argument("increment: expected a positive time step");
-  return {F_inc, Mat2(dem::matrix_logarithm(embedded(F_inc)).topLeftCorner<2, 2>()) / dt, dt};
+  return {F_inc, Mat2(dem::matrix_logarithm(embed_plane_strain(F_inc)).topLeftCorner<2, 2>()) / dt, dt};
 }
 
 }  // namespace grainbank::mpm

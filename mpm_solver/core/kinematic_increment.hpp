@@ -4,6 +4,7 @@
 // its rate-dependent parts (the DEM cell's sub-steps, the rate in a lookup key, seed Eq. 4) and the
 // library it is compared with all see the same motion at the same pace.
 #pragma once
+#include "cell/types.hpp"
 #include "types.hpp"
 
 namespace grainbank::mpm {
@@ -25,5 +26,8 @@ struct KinematicIncrement {
   Mat2 strain() const { return 0.5 * (L + L.transpose()) * dt; }
   Mat2 spin() const { return 0.5 * (L - L.transpose()) * dt; }
 };
+
+// In-plane F_inc embedded in 3D for a DEM cell: [[F, 0], [0, 1]] (plane strain).
+dem::Mat3 embed_plane_strain(const Mat2& F_inc);
 
 }  // namespace grainbank::mpm

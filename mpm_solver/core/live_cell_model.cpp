@@ -9,12 +9,6 @@
 
 namespace grainbank::mpm {
 
-dem::Mat3 embed_plane_strain(const Mat2& F_inc) {
-  dem::Mat3 f = dem::Mat3::Identity();
-  f.topLeftCorner<2, 2>() = F_inc;
-  return f;
-}
-
 PointStress plane_stress_of(const dem::Mat3& s) {
   PointStress out;
   const Mat2 block = s.topLeftCorner<2, 2>();

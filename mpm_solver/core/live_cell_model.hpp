@@ -14,8 +14,6 @@ struct LiveDemSettings {
   double q_h = 0.01;             // Q_h of seed Eq. 4: cell walls move at most Q_h d_min per MPM step
 };
 
-// In-plane F_inc embedded in 3D: [[F, 0], [0, 1]].
-dem::Mat3 embed_plane_strain(const Mat2& F_inc);
 // The MPM momentum balance needs a symmetric stress; Love–Weber stress is symmetric only at
 // equilibrium of moments, so its symmetric part is taken (as the reference implementation does).
 PointStress plane_stress_of(const dem::Mat3& stress);

@@ -188,10 +188,10 @@ void Solver::update_stresses(double dt) {
       const KinematicIncrement step = KinematicIncrement::of_velocity_gradient(mp.velocity_gradient, dt);
       mp.deformation_gradient = step.F * mp.deformation_gradient;
       const Mat2 pending = step.F * mp.pending_increment;
+      const Mat2 pending_motion = pending - Mat2::Identity();
       const double pending_time = mp.pending_time + dt;
-      if (skip > 0 && (pending - Mat2::Identity()).norm() < skip &&
-          law.time_step_limit(mp.slot, mp.deformation_gradient, (pending - Mat2::Identity()) / pending_time) >=
-              pending_time) {
+      if (skip > 0 && pending_motion.norm() < skip &&
+          law.time_step_limit(mp.slot, mp.deformation_gradient, pending_motion / pending_time) >= pending_time) {
         // Rotation counts in the criterion and the stress is held: a law receives every rotation
         // once, in its own objective update, and a cell never moves faster than seed Eq. 4 allows.
         mp.pending_increment = pending;
