@@ -93,6 +93,17 @@ class JsonNode {
   std::string file_, pointer_;
 };
 
+// Runs a constructor that validates its own arguments and turns its std::invalid_argument into an
+// InputError at `node`, so a physics-level refusal still names the file and the JSON pointer.
+template <class Make>
+auto at_node(const JsonNode& node, Make&& make) -> decltype(make()) {
+  try {
+    return make();
+  } catch (const std::invalid_argument& e) {
+    node.fail(e.what());
+  }
+}
+
 // "a string (\"abc\")", "-5", "an array", "null": how a value is quoted after "got".
 std::string describe_value(const nlohmann::json& value);
 

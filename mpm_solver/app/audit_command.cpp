@@ -1,4 +1,4 @@
-#include "audit_command.hpp"
+#include "app/audit_command.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -10,7 +10,7 @@
 #include "audit/run_audit.hpp"
 #include "common/json_input.hpp"
 #include "io/scene_input.hpp"
-#include "scene_overrides.hpp"
+#include "app/scene_overrides.hpp"
 #include "store/audit_log.hpp"
 #include "store/library.hpp"
 

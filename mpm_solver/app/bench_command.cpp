@@ -1,4 +1,4 @@
-#include "bench_command.hpp"
+#include "app/bench_command.hpp"
 
 #include <omp.h>
 
@@ -8,8 +8,8 @@
 
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/elastic_law.hpp"
-#include "core/live_dem_law.hpp"
+#include "laws/elastic_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "core/seeding.hpp"
 
 namespace grainbank::mpm::app {

@@ -1,5 +1,6 @@
-// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`), the benchmark (`mpm_solver bench`)
-// or the audit of a run against live cells (`mpm_solver audit RUN`).
+// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`), the benchmark (`mpm_solver bench`),
+// the audit of a run against live cells (`mpm_solver audit RUN`) or lists the constitutive laws
+// (`mpm_solver laws [--json]`).
 // Every error is one line on stderr starting with "mpm_solver: " and the exit code is 1.
 #include <omp.h>
 
@@ -10,8 +11,9 @@
 #include <iostream>
 #include <string>
 
-#include "audit_command.hpp"
-#include "bench_command.hpp"
+#include "app/audit_command.hpp"
+#include "app/bench_command.hpp"
+#include "app/laws_command.hpp"
 #include "common/stop_signals.hpp"
 #include "run_command.hpp"
 
@@ -32,6 +34,16 @@ int bench_main(int argc, char** argv) {
   CLI11_PARSE(cli, argc, argv);
   const nlohmann::json result = run_bench(o);
   if (json) std::printf("%s\n", result.dump(2).c_str());
+  return 0;
+}
+
+int laws_main(int argc, char** argv) {
+  CLI::App cli("mpm_solver laws: the constitutive laws a scene's materials can name, and the keys of each");
+  bool json = false;
+  cli.add_flag("--json", json, "print {\"laws\": {NAME: {\"keys\": [...], \"dem_backed\": bool}}}");
+  CLI11_PARSE(cli, argc, argv);
+  if (json) std::cout << law_catalogue().dump(2) << '\n';
+  else print_law_table(std::cout);
   return 0;
 }
 
@@ -96,6 +108,7 @@ int main(int argc, char** argv) {
   try {
     if (argc > 1 && std::string(argv[1]) == "bench") return bench_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "audit") return audit_main(argc - 1, argv + 1);
+    if (argc > 1 && std::string(argv[1]) == "laws") return laws_main(argc - 1, argv + 1);
     return run_main(argc, argv);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "mpm_solver: %s\n", e.what());

@@ -148,8 +148,8 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"interrupted", interrupted},
       {"restart", restart.string()}};
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
-  // Closes the run's enriched paths and reports hits, misses and skipped point-steps per law.
-  summary["coupling"] = io::finish_coupling(solver);
+  solver.finish();
+  summary["coupling"] = io::coupling_summary(solver);
   std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';
   return summary;
 }

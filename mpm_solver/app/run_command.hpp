@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "scene_overrides.hpp"
+#include "app/scene_overrides.hpp"
 
 namespace grainbank::mpm::app {
 

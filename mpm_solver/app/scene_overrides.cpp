@@ -1,20 +1,23 @@
-#include "scene_overrides.hpp"
+#include "app/scene_overrides.hpp"
 
 #include <algorithm>
 #include <string_view>
 
 #include "common/json_input.hpp"
-#include "io/scene_input.hpp"
+#include "laws/law_registry.hpp"
 
 namespace grainbank::mpm::app {
 
 namespace {
 
-constexpr const char* kDemBackedList = "live, cache or hybrid";
+bool is_dem_backed(std::string_view law) {
+  const std::optional<LawKind> kind = find_law_kind(law);
+  return kind && kind->dem_backed;
+}
 
 bool dem_backed(const nlohmann::json& material) {
   const auto law = material.find("law");
-  return law != material.end() && law->is_string() && !io::dem_material_keys(law->get<std::string>()).empty();
+  return law != material.end() && law->is_string() && is_dem_backed(law->get<std::string>());
 }
 
 // A relative path of the scene is relative to the scene's folder; the rewritten scene is read from
@@ -29,7 +32,7 @@ void make_absolute(nlohmann::json& material, const char* key, const std::filesys
 // material) would be refused by the loader. A cache/hybrid material may name its cell next to its
 // library (a check of the material); a live one takes one source, the library's template.
 void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
-  const auto keys = io::dem_material_keys(law);
+  const std::span<const std::string_view> keys = find_law_kind(law)->keys;
   for (auto it = material.begin(); it != material.end();)
     it = std::find(keys.begin(), keys.end(), it.key()) == keys.end() ? material.erase(it) : std::next(it);
   if (law == "live" && material.contains("library")) material.erase("cell");
@@ -40,8 +43,8 @@ void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
                                const SceneOverrides& overrides) {
   const std::string flags = overrides.law && overrides.library ? "--law/--library" : overrides.law ? "--law" : "--library";
-  if (overrides.law && io::dem_material_keys(*overrides.law).empty())
-    throw common::InputError("--law: expected " + std::string(kDemBackedList) + ", got \"" + *overrides.law + "\"");
+  if (overrides.law && !is_dem_backed(*overrides.law))
+    throw common::InputError("--law: expected " + dem_backed_law_names() + ", got \"" + *overrides.law + "\"");
   if (overrides.library && overrides.library->empty())
     throw common::InputError("--library: expected a library directory, got an empty path");
   const auto materials = scene.find("materials");
@@ -62,7 +65,7 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
       }
     }
   if (rewritten == 0)
-    throw common::InputError(flags + ": expected a scene with a DEM-backed material (law " + kDemBackedList +
+    throw common::InputError(flags + ": expected a scene with a DEM-backed material (law " + dem_backed_law_names() +
                              "), found none");
   return scene;
 }

@@ -1,4 +1,4 @@
-#include "run_audit.hpp"
+#include "audit/run_audit.hpp"
 
 #include <exception>
 #include <stdexcept>

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "grid.hpp"
+#include "core/grid.hpp"
 
 namespace grainbank::mpm {
 

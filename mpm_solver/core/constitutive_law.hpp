@@ -1,28 +1,27 @@
-// The one interface behind which every constitutive law of the MPM sits (elastic, Drucker–Prager,
-// live DEM, and the library-backed cache and hybrid laws of coupling/). A law owns the state of all its points, addressed by slot; distinct slots may be
-// updated concurrently, so update() must only touch its own slot.
+// The one interface behind which every constitutive law of the MPM sits. A law owns the state of all
+// its points, addressed by slot; distinct slots may be updated concurrently, so update() must only
+// touch its own slot. Laws register themselves by name (laws/law_registry.hpp); the solver knows them
+// only through this interface.
 #pragma once
 #include <cstddef>
 #include <limits>
 #include <string>
 
-#include "coupling_status.hpp"
-#include "kinematic_increment.hpp"
-#include "types.hpp"
-
-namespace grainbank::dem {
-class DemCell;
-}
+#include "core/kinematic_increment.hpp"
+#include "core/law_state_archive.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
+
+class DemBackedLaw;
 
 class ConstitutiveLaw {
  public:
   virtual ~ConstitutiveLaw() = default;
 
-  // "elastic", "drucker_prager", "live", "cache", "hybrid".
+  // The name the law is registered under ("elastic", "drucker_prager", "live", "cache", "hybrid").
   virtual std::string name() const = 0;
-  // Density of new points [kg/m³] (for a live law: of its cell, spheres and voids).
+  // Density of new points [kg/m³] (for a DEM-backed law: of its cell, spheres and voids).
   virtual double density() const = 0;
   // Creates the state of one more point and returns its slot and initial stress.
   virtual std::size_t add_point(PointStress& initial_stress) = 0;
@@ -48,19 +47,19 @@ class ConstitutiveLaw {
   // Asked every step: a law may become expensive (a hybrid law once some of its points are live).
   virtual bool expensive() const { return false; }
 
-  // What answered the last update of `slot`, and the error the library estimates for that answer
-  // (0 unless it came from a lookup) [Pa].
-  virtual StressSource source(std::size_t /*slot*/) const { return StressSource::analytic; }
-  virtual double estimated_error(std::size_t /*slot*/) const { return 0; }
-  // Lookups, live cells and enrichment so far (zero for laws that use no library): of the whole law,
-  // and of one point.
-  virtual CouplingCounters counters() const { return {}; }
-  virtual CouplingCounters point_counters(std::size_t /*slot*/) const { return {}; }
-  // The DEM cell that answers `slot` now, or null (analytic laws; library answers of cache/hybrid).
-  virtual const dem::DemCell* live_cell(std::size_t /*slot*/) const { return nullptr; }
-  // Ends the run: writes what the law still holds (e.g. live responses for the library). Called once,
-  // after the last step; throws with context when that fails.
+  // What the law's points carry from step to step besides the point's own kinematics and stress
+  // (restart files): saved after any step and restored into a law built from the same scene with the
+  // same points, the run continues as if uninterrupted. Laws whose points carry nothing else keep
+  // the defaults.
+  virtual void save_state(LawStateWriter& /*out*/) const {}
+  virtual void restore_state(LawStateReader& /*in*/) {}
+
+  // Ends the run (Solver::finish): writes what the law still holds (e.g. live responses for the
+  // library). Called once, after the last step; throws with context when that fails.
   virtual void finish() {}
+
+  // The DEM-backed side of the law (live cells, library answers), or null for an analytic law.
+  virtual const DemBackedLaw* dem_backed() const { return nullptr; }
 };
 
 }  // namespace grainbank::mpm

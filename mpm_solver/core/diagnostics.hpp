@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "material_point.hpp"
+#include "core/material_point.hpp"
 
 namespace grainbank::mpm {
 

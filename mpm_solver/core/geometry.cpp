@@ -1,4 +1,4 @@
-#include "geometry.hpp"
+#include "core/geometry.hpp"
 
 #include <algorithm>
 #include <limits>

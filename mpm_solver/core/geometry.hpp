@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "types.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "types.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

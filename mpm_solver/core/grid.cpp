@@ -1,4 +1,4 @@
-#include "grid.hpp"
+#include "core/grid.hpp"
 
 #include <cmath>
 #include <stdexcept>

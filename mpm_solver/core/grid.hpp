@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "types.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

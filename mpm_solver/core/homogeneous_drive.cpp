@@ -1,4 +1,4 @@
-#include "homogeneous_drive.hpp"
+#include "core/homogeneous_drive.hpp"
 
 namespace grainbank::mpm {
 

@@ -3,8 +3,8 @@
 // L: an element test of a constitutive law through the full MPM step (e.g. one live-DEM point driven
 // along the same history as a stand-alone `dem_sampler run`).
 #pragma once
-#include "grid.hpp"
-#include "types.hpp"
+#include "core/grid.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

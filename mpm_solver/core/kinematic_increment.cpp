@@ -1,4 +1,4 @@
-#include "kinematic_increment.hpp"
+#include "core/kinematic_increment.hpp"
 
 #include <cmath>
 #include <stdexcept>

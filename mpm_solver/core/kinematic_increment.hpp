@@ -5,7 +5,7 @@
 // library it is compared with all see the same motion at the same pace.
 #pragma once
 #include "cell/types.hpp"
-#include "types.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

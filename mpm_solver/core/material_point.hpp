@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "types.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

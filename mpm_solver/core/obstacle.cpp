@@ -1,4 +1,4 @@
-#include "obstacle.hpp"
+#include "core/obstacle.hpp"
 
 #include <algorithm>
 #include <cmath>

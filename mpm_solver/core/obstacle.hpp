@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "geometry.hpp"
+#include "core/geometry.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "seeding.hpp"
+#include "core/seeding.hpp"
 
 #include <algorithm>
 #include <cmath>

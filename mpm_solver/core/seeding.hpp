@@ -2,8 +2,8 @@
 // sub-cells, kept when inside the region. Each point gets the volume (h/n)² and, for obstacle
 // contact, the disk radius h/(2n).
 #pragma once
-#include "geometry.hpp"
-#include "solver.hpp"
+#include "core/geometry.hpp"
+#include "core/solver.hpp"
 
 namespace grainbank::mpm {
 

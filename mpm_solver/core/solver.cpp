@@ -1,4 +1,4 @@
-#include "solver.hpp"
+#include "core/solver.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace grainbank::mpm {
 
@@ -95,6 +95,10 @@ TimeStepLimits Solver::time_step_limits() const {
 double Solver::stable_time_step() const { return std::min(time_step_limits().minimum(), settings_.max_time_step); }
 
 // One MUSL step, top to bottom (seed §2.1).
+void Solver::finish() {
+  for (const std::unique_ptr<ConstitutiveLaw>& law : laws_) law->finish();
+}
+
 void Solver::step(double dt) {
   if (!(dt > 0)) throw std::invalid_argument("step: expected a positive time step");
   if (steps_ % settings_.sort_interval == 0) timed(phase_times_.sort, [&] { sort_points_by_cell(); });

@@ -6,14 +6,14 @@
 #include <memory>
 #include <vector>
 
-#include "constitutive_law.hpp"
-#include "gravity.hpp"
-#include "grid.hpp"
-#include "homogeneous_drive.hpp"
-#include "material_point.hpp"
-#include "obstacle.hpp"
-#include "time_step.hpp"
-#include "transfers.hpp"
+#include "core/constitutive_law.hpp"
+#include "core/gravity.hpp"
+#include "core/grid.hpp"
+#include "core/homogeneous_drive.hpp"
+#include "core/material_point.hpp"
+#include "core/obstacle.hpp"
+#include "core/time_step.hpp"
+#include "core/transfers.hpp"
 
 namespace grainbank::mpm {
 
@@ -58,6 +58,9 @@ class Solver {
   // the grid, penetrates an obstacle too deeply (naming the obstacle) or its law fails; the solver
   // is then not to be stepped further.
   void step(double dt);
+  // Ends the run: every law writes what it still holds (ConstitutiveLaw::finish). Call once, after
+  // the last step.
+  void finish();
 
   double time() const { return time_; }
   long steps() const { return steps_; }

@@ -1,8 +1,8 @@
-#include "time_step.hpp"
+#include "core/time_step.hpp"
 
 #include <cmath>
 
-#include "parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace grainbank::mpm {
 

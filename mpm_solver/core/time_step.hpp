@@ -6,10 +6,10 @@
 #include <memory>
 #include <vector>
 
-#include "constitutive_law.hpp"
-#include "grid.hpp"
-#include "material_point.hpp"
-#include "obstacle.hpp"
+#include "core/constitutive_law.hpp"
+#include "core/grid.hpp"
+#include "core/material_point.hpp"
+#include "core/obstacle.hpp"
 
 namespace grainbank::mpm {
 

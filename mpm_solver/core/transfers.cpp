@@ -1,6 +1,6 @@
-#include "transfers.hpp"
+#include "core/transfers.hpp"
 
-#include "parallel.hpp"
+#include "core/parallel.hpp"
 
 #include <omp.h>
 

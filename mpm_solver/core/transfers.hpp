@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include "bspline.hpp"
-#include "material_point.hpp"
+#include "core/bspline.hpp"
+#include "core/material_point.hpp"
 
 namespace grainbank::mpm {
 

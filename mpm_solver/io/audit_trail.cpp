@@ -1,9 +1,10 @@
-#include "audit_trail.hpp"
+#include "io/audit_trail.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "scene_input.hpp"
+#include "core/dem_backed_law.hpp"
+#include "io/scene_input.hpp"
 #include "store/error.hpp"
 #include "store/hdf5_handle.hpp"
 
@@ -29,7 +30,7 @@ void AuditTrailRecorder::record(const Solver& solver, double dt) {
     const std::int64_t k = slot_of_id_[mp.id];
     if (k < 0) continue;
     trail_.points[k].steps.push_back(
-        {solver.time(), dt, mp.velocity_gradient, mp.stress, solver.law(mp.law).source(mp.slot)});
+        {solver.time(), dt, mp.velocity_gradient, mp.stress, stress_source(solver.law(mp.law), mp.slot)});
   }
 }
 
@@ -100,7 +101,7 @@ AuditTrail read_audit_trail(const std::filesystem::path& file) {
 std::vector<std::uint32_t> spread_audit_points(const Solver& solver, std::size_t count) {
   std::vector<std::uint32_t> dem_backed;
   for (const MaterialPoint& mp : solver.points()) {
-    if (!dem_material_keys(solver.law(mp.law).name()).empty()) dem_backed.push_back(mp.id);
+    if (solver.law(mp.law).dem_backed()) dem_backed.push_back(mp.id);
   }
   std::sort(dem_backed.begin(), dem_backed.end());
   if (count == 0 || count > dem_backed.size())

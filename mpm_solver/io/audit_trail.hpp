@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "core/coupling_status.hpp"
 #include "core/solver.hpp"
 
 namespace grainbank::mpm::io {

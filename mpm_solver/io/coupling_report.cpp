@@ -1,4 +1,4 @@
-#include "coupling_report.hpp"
+#include "io/coupling_report.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -6,24 +6,31 @@ StepCoupling step_coupling(const Solver& solver) {
   StepCoupling s;
   double error_sum = 0;
   for (const MaterialPoint& mp : solver.points()) {
-    const ConstitutiveLaw& law = solver.law(mp.law);
-    switch (law.source(mp.slot)) {
+    const DemBackedLaw* dem = solver.law(mp.law).dem_backed();
+    switch (stress_source(solver.law(mp.law), mp.slot)) {
       case StressSource::analytic: ++s.analytic; break;
       case StressSource::live: ++s.live; break;
-      case StressSource::hit: ++s.hits, error_sum += law.estimated_error(mp.slot); break;
-      case StressSource::miss: ++s.misses, error_sum += law.estimated_error(mp.slot); break;
+      case StressSource::hit: ++s.hits, error_sum += dem->estimated_error(mp.slot); break;
+      case StressSource::miss: ++s.misses, error_sum += dem->estimated_error(mp.slot); break;
     }
   }
   if (s.hits + s.misses > 0) s.mean_estimated_error = error_sum / double(s.hits + s.misses);
   return s;
 }
 
-nlohmann::json finish_coupling(Solver& solver) {
+CouplingCounters coupling_counters(const Solver& solver, std::optional<std::size_t> law) {
+  CouplingCounters total;
+  for (const MaterialPoint& mp : solver.points())
+    if (const DemBackedLaw* dem = solver.law(mp.law).dem_backed(); dem && (!law || mp.law == *law))
+      total += dem->point_counters(mp.slot);
+  return total;
+}
+
+nlohmann::json coupling_summary(const Solver& solver) {
   nlohmann::json laws = nlohmann::json::array();
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
-    ConstitutiveLaw& law = solver.law(k);
-    law.finish();
-    const CouplingCounters c = law.counters();
+    const ConstitutiveLaw& law = solver.law(k);
+    const CouplingCounters c = coupling_counters(solver, k);
     const std::uint64_t lookups = c.hits + c.misses;
     laws.push_back({{"law", law.name()},
                     {"hits", c.hits},

@@ -1,9 +1,10 @@
 // What the library-backed laws did during a run, for its outputs: the per-step picture of the
-// points (CSV series columns) and the run totals (summary JSON). Also ends the run for the laws
-// (finish: enriched paths are marked done).
+// points (CSV series columns) and the run totals (summary JSON).
 #pragma once
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "core/dem_backed_law.hpp"
 #include "core/solver.hpp"
 
 namespace grainbank::mpm::io {
@@ -16,8 +17,12 @@ struct StepCoupling {
 };
 StepCoupling step_coupling(const Solver& solver);
 
-// Calls finish() on every law, then returns the totals: per law (name, counters, hit rate, mean
-// estimated error), the point-steps that skipped the constitutive call and all point-steps.
-nlohmann::json finish_coupling(Solver& solver);
+// The counters of the points of law `law` (all laws: nullopt), summed.
+CouplingCounters coupling_counters(const Solver& solver, std::optional<std::size_t> law = std::nullopt);
+
+// The run's totals: per law (name, counters, hit rate, mean estimated error), the point-steps that
+// skipped the constitutive call and all point-steps. After Solver::finish, they include what the
+// laws wrote at the end.
+nlohmann::json coupling_summary(const Solver& solver);
 
 }  // namespace grainbank::mpm::io

@@ -1,11 +1,9 @@
-#include "restart.hpp"
+#include "io/restart.hpp"
 
-#include <map>
 #include <stdexcept>
 #include <string>
 
-#include "core/live_dem_law.hpp"
-#include "coupling/library_law.hpp"
+#include "cell/dem_cell.hpp"
 #include "store/cell_state_io.hpp"
 #include "store/hdf5_handle.hpp"
 
@@ -51,16 +49,28 @@ MaterialPoint point_from_row(const double* r) {
   return mp;
 }
 
-std::string cell_group(std::size_t law, std::size_t slot) {
-  return "law_" + std::to_string(law) + "_cell_" + std::to_string(slot);
-}
+// A law's entries are prefixed "law_<index>_", so two laws may use the same names.
+class LawEntries : public LawStateWriter, public LawStateReader {
+ public:
+  LawEntries(const h5::Object& root, std::size_t law) : root_(root), prefix_("law_" + std::to_string(law) + "_") {}
 
-// Per point of a cache/hybrid law: slot, damage, live (0/1), steps inside the tolerance; live cells
-// as cell groups; the replay histories as rows slot, F_inc (4), L (4), dt, in step order.
-constexpr hsize_t kLibraryColumns = 4;
-constexpr hsize_t kHistoryColumns = 10;
-std::string library_points(std::size_t law) { return "law_" + std::to_string(law) + "_library_points"; }
-std::string replay_history(std::size_t law) { return "law_" + std::to_string(law) + "_replay_history"; }
+  void write_table(const std::string& name, const std::vector<double>& rows, std::size_t columns) override {
+    h5::write_array(root_, prefix_ + name, rows, columns);
+  }
+  void write_cell(const std::string& name, const dem::DemCell& cell) override {
+    db::write_cell_state(h5::create_group(root_, prefix_ + name), db::StoredCell{cell.state(), cell.skin()});
+  }
+  std::vector<double> read_table(const std::string& name, std::size_t columns) override {
+    return h5::read_array<double>(root_, prefix_ + name, columns);
+  }
+  dem::CellState read_cell(const std::string& name) override {
+    return db::read_cell_state(h5::open_group(root_, prefix_ + name)).state;
+  }
+
+ private:
+  const h5::Object& root_;
+  std::string prefix_;
+};
 
 void write_contents(const h5::Object& root, const Solver& solver) {
   h5::write_attribute(root, "format", std::string(kFormat));
@@ -76,28 +86,9 @@ void write_contents(const h5::Object& root, const Solver& solver) {
     tangential.insert(tangential.end(), history.begin(), history.end());
   }
   h5::write_array(root, "obstacle_tangential", tangential, solver.points().size());
-  for (const MaterialPoint& mp : solver.points())
-    if (const auto* live = dynamic_cast<const LiveDemLaw*>(&solver.law(mp.law))) {
-      const dem::DemCell& cell = live->cell(mp.slot);
-      db::write_cell_state(h5::create_group(root, cell_group(mp.law, mp.slot)), db::StoredCell{cell.state(), cell.skin()});
-    }
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
-    const auto* law = dynamic_cast<const LibraryLaw*>(&solver.law(k));
-    if (!law) continue;
-    std::vector<double> rows, history;
-    for (const MaterialPoint& mp : solver.points()) {
-      if (mp.law != k) continue;
-      const LibraryLaw::CarriedState state = law->carried_state(mp.slot);
-      const dem::DemCell* cell = law->live_cell(mp.slot);
-      rows.insert(rows.end(), {double(mp.slot), state.damage, cell ? 1.0 : 0.0, double(state.steps_inside)});
-      for (const KinematicIncrement& r : state.history)
-        history.insert(history.end(), {double(mp.slot), r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), r.L(0, 0), r.L(0, 1),
-                                       r.L(1, 0), r.L(1, 1), r.dt});
-      if (cell)
-        db::write_cell_state(h5::create_group(root, cell_group(k, mp.slot)), db::StoredCell{cell->state(), cell->skin()});
-    }
-    h5::write_array(root, library_points(k), rows, kLibraryColumns);
-    h5::write_array(root, replay_history(k), history, kHistoryColumns);
+    LawEntries entries(root, k);
+    solver.law(k).save_state(entries);
   }
 }
 
@@ -141,32 +132,9 @@ void read_restart(const std::filesystem::path& file, Solver& solver) {
   for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
     solver.obstacle(o).set_tangential_history(
         std::vector<double>(tangential.begin() + o * points.size(), tangential.begin() + (o + 1) * points.size()));
-  for (const MaterialPoint& mp : points)
-    if (auto* live = dynamic_cast<LiveDemLaw*>(&solver.law(mp.law)))
-      live->restore_cell(mp.slot, db::read_cell_state(h5::open_group(root, cell_group(mp.law, mp.slot))).state);
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
-    auto* law = dynamic_cast<LibraryLaw*>(&solver.law(k));
-    if (!law) continue;
-    const std::vector<double> rows = h5::read_array<double>(root, library_points(k), kLibraryColumns);
-    std::map<std::size_t, std::vector<KinematicIncrement>> histories;
-    const std::vector<double> history = h5::read_array<double>(root, replay_history(k), kHistoryColumns);
-    for (std::size_t r = 0; r < history.size(); r += kHistoryColumns) {
-      KinematicIncrement increment;
-      increment.F << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
-      increment.L << history[r + 5], history[r + 6], history[r + 7], history[r + 8];
-      increment.dt = history[r + 9];
-      histories[static_cast<std::size_t>(history[r])].push_back(increment);
-    }
-    for (std::size_t r = 0; r < rows.size(); r += kLibraryColumns) {
-      const auto slot = static_cast<std::size_t>(rows[r]);
-      LibraryLaw::CarriedState state;
-      state.damage = rows[r + 1];
-      state.steps_inside = static_cast<int>(rows[r + 3]);
-      state.history = std::move(histories[slot]);
-      std::optional<dem::CellState> cell;
-      if (rows[r + 2] != 0) cell = db::read_cell_state(h5::open_group(root, cell_group(k, slot))).state;
-      law->restore_point(slot, std::move(state), std::move(cell));
-    }
+    LawEntries entries(root, k);
+    solver.law(k).restore_state(entries);
   }
   try {
     solver.restore(h5::read_double_attribute(root, "time"), h5::read_int_attribute(root, "steps"), std::move(points));

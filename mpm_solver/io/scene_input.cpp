@@ -1,21 +1,13 @@
-#include "scene_input.hpp"
+#include "io/scene_input.hpp"
 
-#include <cmath>
-#include <numbers>
-#include <optional>
+#include <algorithm>
+#include <limits>
 #include <utility>
-#include <stdexcept>
 
-#include "cell_input.hpp"
 #include "common/json_input.hpp"
-#include "core/drucker_prager_law.hpp"
-#include "core/elastic_law.hpp"
-#include "core/live_dem_law.hpp"
-#include "audit_trail.hpp"
-#include "coupling/library_law.hpp"
 #include "core/seeding.hpp"
-#include "store/error.hpp"
-#include "store/library.hpp"
+#include "io/audit_trail.hpp"
+#include "laws/law_registry.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -74,33 +66,6 @@ std::vector<Vec2> vertices(const JsonNode& node) {
   return out;
 }
 
-// Runs a physics constructor and turns its std::invalid_argument into an error at `node`.
-template <class F>
-auto at_node(const JsonNode& node, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const std::invalid_argument& e) {
-    node.fail(e.what());
-  }
-}
-
-// The DEM effects a scene declares (absent: whatever its cells have). A DEM-backed material whose cell
-// or library was built with other effects is refused: its responses answer another physics.
-struct DemEffects {
-  std::optional<bool> cohesion, kinetic_stress, rolling_resistance;
-};
-
-void require_effects(const JsonNode& node, const dem::Material& material, const DemEffects& scene, const std::string& source) {
-  const auto check = [&](const char* name, const std::optional<bool>& wanted, bool built) {
-    if (wanted && *wanted != built)
-      node.fail(source + " was built with " + name + (built ? " on" : " off") + " but the scene's effects." + name +
-                " is " + (*wanted ? "on" : "off") + "; the run is refused (use a library or cell with the same effects)");
-  };
-  check("cohesion", scene.cohesion, material.effects.bonds);
-  check("kinetic_stress", scene.kinetic_stress, material.effects.kinetic_stress);
-  check("rolling_resistance", scene.rolling_resistance, material.effects.rolling);
-}
-
 Grid read_grid(const JsonNode& node) {
   node.allow_only({"origin", "cell_size", "cells"});
   const Vec2 origin = node.has("origin") ? vec2(node.at("origin", "")) : Vec2::Zero();
@@ -115,116 +80,6 @@ Grid read_grid(const JsonNode& node) {
     cells.fail_expected("at most " + std::to_string(kMaxCells) + " cells in all (here n_x * n_y = " +
                         std::to_string(nx * ny) + "; use a coarser cell_size or a smaller domain)");
   return Grid(origin, h, static_cast<int>(nx), static_cast<int>(ny));
-}
-
-dem::DemCell live_template(const JsonNode& node, const std::filesystem::path& folder) {
-  if (node.has("cell") == node.has("library"))
-    node.fail("a live material needs exactly one of \"cell\" (a cell.json) and \"library\" with \"template\"");
-  if (node.has("cell")) {
-    const app::CellInput input = app::load_cell_input(folder / node.at("cell", "").string());
-    return app::build_cell(input);
-  }
-  const JsonNode lib = node.at("library", "");
-  const std::int64_t id = node.at("template", "a template id (integer)").integer(1);
-  try {
-    db::Library library = db::Library::open(folder / lib.string());
-    return library.restore(library.template_cell(id));
-  } catch (const std::exception& e) {
-    lib.fail(e.what());
-  }
-}
-
-LiveDemSettings read_live_settings(const JsonNode& node) {
-  LiveDemSettings s;
-  if (const auto sub = node.find("substepping")) {
-    sub->allow_only({"q_t", "q_n", "q_sigma"});
-    s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
-    s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
-    s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
-  }
-  s.q_h = node.number_or("q_h", s.q_h, Range::positive());
-  return s;
-}
-
-// A cache or hybrid material: the library (and template) its points are answered from; with "cell",
-// the library must have been built for that cell's material.
-std::unique_ptr<ConstitutiveLaw> read_library_law(const JsonNode& node, const std::filesystem::path& folder,
-                                                  const DemEffects& effects, bool hybrid) {
-  node.allow_only(dem_material_keys(hybrid ? "hybrid" : "cache"));
-  LibraryLawSettings s;
-  s.live = read_live_settings(node);
-  std::optional<db::KeyScales> scales;
-  if (const auto lookup = node.find("lookup")) {
-    lookup->allow_only({"k", "tolerance", "scales"});
-    s.lookup.k = static_cast<std::size_t>(lookup->integer_or("k", static_cast<std::int64_t>(s.lookup.k), 1, 1000));
-    s.lookup.tolerance = lookup->number_or("tolerance", s.lookup.tolerance, Range::at_least(0));
-    if (const auto sc = lookup->find("scales")) {
-      // Replaces the library's key scales for this run: what "a different state" means here.
-      sc->allow_only({"strain", "rate", "damage"});
-      scales = db::KeyScales{sc->number("strain", Range::positive()), sc->number("rate", Range::positive()),
-                             sc->number("damage", Range::positive())};
-    }
-  }
-  if (hybrid) {
-    s.fallback = Fallback::warm_start;
-    if (const auto fb = node.find("fallback")) {
-      fb->allow_only({"start", "max_drive_strain", "return_after"});
-      if (fb->has("start")) {
-        const JsonNode start = fb->at("start", "");
-        const std::string kind = start.string();
-        if (kind == "replay") s.fallback = Fallback::replay;
-        else if (kind != "warm_start") start.fail_expected("\"warm_start\" or \"replay\"");
-      }
-      s.max_drive_strain = fb->number_or("max_drive_strain", s.max_drive_strain, Range::positive());
-      s.return_after = static_cast<int>(fb->integer_or("return_after", s.return_after, 0, 1000000000));
-    }
-    s.enrich = node.boolean_or("enrich", true);
-    s.snapshot_interval = static_cast<int>(node.integer_or("snapshot_interval", s.snapshot_interval, 0, 1000000000));
-  }
-  const JsonNode lib = node.at("library", "a library directory (string)");
-  const std::int64_t id = node.at("template", "a template id (integer)").integer(1);
-  std::optional<dem::Material> expected;
-  if (node.has("cell")) expected = app::load_cell_input(folder / node.at("cell", "").string()).material;
-  std::unique_ptr<LibraryLink> link;
-  try {
-    link = std::make_unique<LibraryLink>(folder / lib.string(), id, expected ? &*expected : nullptr, scales);
-  } catch (const db::StoreError& e) {
-    lib.fail(e.what());
-  }
-  require_effects(node, link->template_cell().material(), effects, "the library " + lib.string());
-  return at_node(node, [&] { return std::make_unique<LibraryLaw>(std::move(link), s); });
-}
-
-std::unique_ptr<ConstitutiveLaw> read_law(const JsonNode& node, const std::filesystem::path& folder,
-                                          const DemEffects& effects) {
-  const char* laws = "\"elastic\", \"drucker_prager\", \"live\", \"cache\" or \"hybrid\"";
-  const std::string law = node.at("law", laws).string();
-  if (law == "elastic") {
-    node.allow_only({"name", "law", "density", "young", "poisson"});
-    return at_node(node, [&] {
-      return std::make_unique<ElasticLaw>(node.number("density", Range::positive()),
-                                          Elasticity{node.number("young", Range::positive()),
-                                                     node.number("poisson", Range::between(-1, 0.5, true, true))});
-    });
-  }
-  if (law == "drucker_prager") {
-    node.allow_only({"name", "law", "density", "young", "poisson", "friction_angle", "cohesion", "tensile_strength"});
-    DruckerPragerParameters p;
-    p.elasticity = {node.number("young", Range::positive()), node.number("poisson", Range::between(-1, 0.5, true, true))};
-    p.friction_angle = node.number("friction_angle", Range::between(0, 90, false, true)) * std::numbers::pi / 180;
-    p.cohesion = node.number_or("cohesion", 0, Range::at_least(0));
-    p.tensile_strength = node.number_or("tensile_strength", 0, Range::at_least(0));
-    return at_node(node, [&] { return std::make_unique<DruckerPragerLaw>(node.number("density", Range::positive()), p); });
-  }
-  if (law == "live") {
-    node.allow_only(dem_material_keys("live"));
-    const LiveDemSettings s = read_live_settings(node);
-    const dem::DemCell cell = live_template(node, folder);
-    require_effects(node, cell.material(), effects, node.has("cell") ? "the cell" : "the library");
-    return at_node(node, [&] { return std::make_unique<LiveDemLaw>(cell, s); });
-  }
-  if (law == "cache" || law == "hybrid") return read_library_law(node, folder, effects, law == "hybrid");
-  node.at("law", "").fail_expected(laws);
 }
 
 void read_region(const JsonNode& node, Solver& solver, const std::vector<std::string>& names) {
@@ -244,7 +99,7 @@ void read_region(const JsonNode& node, Solver& solver, const std::vector<std::st
   }
   const int ppc = static_cast<int>(node.integer_or("points_per_cell", 2, 1, 16));
   const Vec2 velocity = node.has("velocity") ? vec2(node.at("velocity", "")) : Vec2::Zero();
-  const std::size_t added = at_node(node, [&] {
+  const std::size_t added = common::at_node(node, [&] {
     return seed_region(solver, static_cast<std::size_t>(it - names.begin()), shape, ppc, velocity);
   });
   if (added == 0) node.fail("the region contains no material point (too small for the grid?)");
@@ -264,7 +119,7 @@ Obstacle read_obstacle(const JsonNode& node, bool friction) {
   c.damping_ratio = node.number_or("damping", 0.5, Range::between(0, 1, false, false));
   const Vec2 velocity = node.has("velocity") ? vec2(node.at("velocity", "")) : Vec2::Zero();
   const double removal = node.number_or("remove_at", kInfinity, Range::at_least(0));
-  return at_node(node, [&] { return Obstacle(std::move(shape), c, velocity, removal); });
+  return common::at_node(node, [&] { return Obstacle(std::move(shape), c, velocity, removal); });
 }
 
 Gravity read_gravity(const JsonNode& node) {
@@ -281,18 +136,6 @@ Gravity read_gravity(const JsonNode& node) {
 }
 
 }  // namespace
-
-std::span<const std::string_view> dem_material_keys(std::string_view law) {
-  static constexpr std::string_view live[] = {"name", "law", "cell", "library", "template", "substepping", "q_h"};
-  static constexpr std::string_view cache[] = {"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"};
-  static constexpr std::string_view hybrid[] = {"name",        "law", "library", "template", "cell",
-                                                "lookup",      "substepping", "q_h", "fallback", "enrich",
-                                                "snapshot_interval"};
-  if (law == "live") return live;
-  if (law == "cache") return cache;
-  if (law == "hybrid") return hybrid;
-  return {};
-}
 
 Scene load_scene(const std::filesystem::path& file) {
   const nlohmann::json doc = common::load_json_file(file);
@@ -328,10 +171,11 @@ Scene load_scene(const std::filesystem::path& file) {
     settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
   }
   const JsonNode grid = root.at("grid", "an object with cell_size and cells");
-  scene.solver = std::make_unique<Solver>(at_node(grid, [&] { return read_grid(grid); }), settings);
+  scene.solver = std::make_unique<Solver>(common::at_node(grid, [&] { return read_grid(grid); }), settings);
 
   bool gravity = false, boundary_friction = false;
-  DemEffects dem_effects;
+  LawContext law_context{folder, {}};
+  DemEffects& dem_effects = law_context.effects;
   if (const auto effects = root.find("effects")) {
     effects->allow_only({"gravity", "boundary_friction", "cohesion", "kinetic_stress", "rolling_resistance"});
     gravity = effects->boolean_or("gravity", false);
@@ -353,7 +197,7 @@ Scene load_scene(const std::filesystem::path& file) {
     const std::string name = m.at("name", "a material name (string)").string();
     if (std::find(scene.material_names.begin(), scene.material_names.end(), name) != scene.material_names.end())
       m.at("name", "").fail("duplicate material name");
-    scene.solver->add_law(read_law(m, folder, dem_effects));
+    scene.solver->add_law(read_law(m, law_context));
     scene.material_names.push_back(name);
   }
   const JsonNode regions = root.at("regions", "a non-empty array of regions");
@@ -379,7 +223,7 @@ Scene load_scene(const std::filesystem::path& file) {
     audit->allow_only({"points"});
     const JsonNode points = audit->at("points", "the number of points whose history the run records (integer >= 1)");
     const auto count = static_cast<std::size_t>(points.integer(1));
-    scene.audited_points = at_node(points, [&] { return spread_audit_points(*scene.solver, count); });
+    scene.audited_points = common::at_node(points, [&] { return spread_audit_points(*scene.solver, count); });
   }
   return scene;
 }

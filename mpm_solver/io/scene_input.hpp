@@ -24,10 +24,6 @@ struct Scene {
   std::vector<std::uint32_t> audited_points;  // point ids whose history the run records (audit_trail.hpp)
 };
 
-// The keys a material of the DEM-backed law `law` ("live", "cache" or "hybrid") accepts; empty for
-// any other name.
-std::span<const std::string_view> dem_material_keys(std::string_view law);
-
 // Reads and builds the scene (live cells are prepared or loaded here). Paths inside the scene are
 // relative to its folder.
 Scene load_scene(const std::filesystem::path& file);

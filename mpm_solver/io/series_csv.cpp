@@ -1,10 +1,10 @@
-#include "series_csv.hpp"
+#include "io/series_csv.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
 #include "core/diagnostics.hpp"
-#include "coupling_report.hpp"
+#include "io/coupling_report.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -28,8 +28,7 @@ void SeriesCsv::write(const Solver& solver, double last_dt) {
   out_ << solver.time() << ',' << last_dt << ',' << solver.steps() << ',' << m.kinetic_energy << ',' << m.front << ','
        << m.max_height << ',' << m.max_speed << ',' << limits.wave << ',' << limits.contact << ',' << limits.law;
   const StepCoupling c = step_coupling(solver);
-  CouplingCounters total;
-  for (std::size_t k = 0; k < solver.law_count(); ++k) total += solver.law(k).counters();
+  const CouplingCounters total = coupling_counters(solver);
   out_ << ',' << c.hits << ',' << c.misses << ',' << c.live << ',' << c.hit_rate() << ',' << c.mean_estimated_error << ','
        << total.went_live << ',' << total.warm_start_seconds << ',' << solver.skipped_updates() << '\n';
 }

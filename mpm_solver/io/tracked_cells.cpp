@@ -1,10 +1,11 @@
-#include "tracked_cells.hpp"
+#include "io/tracked_cells.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
+#include "core/dem_backed_law.hpp"
 
 namespace grainbank::mpm::io {
 
@@ -36,7 +37,8 @@ std::vector<dem::Vec3> wrapped_positions(const dem::CellState& state) {
 const dem::DemCell* cell_of_point(const Solver& solver, std::uint32_t id) {
   for (const MaterialPoint& mp : solver.points()) {
     if (mp.id != id) continue;
-    return solver.law(mp.law).live_cell(mp.slot);
+    const DemBackedLaw* dem = solver.law(mp.law).dem_backed();
+    return dem ? dem->live_cell(mp.slot) : nullptr;
   }
   throw std::invalid_argument("tracked cells: no material point with id " + std::to_string(id));
 }

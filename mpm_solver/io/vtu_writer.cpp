@@ -1,10 +1,11 @@
-#include "vtu_writer.hpp"
+#include "io/vtu_writer.hpp"
 
 #include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/dem_backed_law.hpp"
 #include "core/material_point.hpp"
 
 namespace grainbank::mpm::io {
@@ -56,9 +57,10 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
     damage.push_back(solver.law(mp.law).damage(mp.slot));
     density.push_back(mp.mass / mp.volume);
     law.push_back(static_cast<std::int32_t>(mp.law));
-    source.push_back(static_cast<std::int32_t>(solver.law(mp.law).source(mp.slot)));
-    error.push_back(solver.law(mp.law).estimated_error(mp.slot));
-    const CouplingCounters c = solver.law(mp.law).point_counters(mp.slot);
+    const DemBackedLaw* dem = solver.law(mp.law).dem_backed();
+    source.push_back(static_cast<std::int32_t>(stress_source(solver.law(mp.law), mp.slot)));
+    error.push_back(dem ? dem->estimated_error(mp.slot) : 0.0);
+    const CouplingCounters c = dem ? dem->point_counters(mp.slot) : CouplingCounters{};
     hits.push_back(static_cast<std::int64_t>(c.hits));
     misses.push_back(static_cast<std::int64_t>(c.misses));
     live_steps.push_back(static_cast<std::int64_t>(c.live_updates));

@@ -10,7 +10,7 @@
 #include "cell/dem_cell.hpp"
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/live_cell_model.hpp"
+#include "dem_laws/live_cell_model.hpp"
 #include "dem/dem_test_util.hpp"
 
 namespace grainbank::mpm {

@@ -10,9 +10,10 @@
 
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/live_dem_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "core/solver.hpp"
-#include "coupling/library_law.hpp"
+#include "dem_laws/library_law.hpp"
+#include "io/coupling_report.hpp"
 #include "store/library.hpp"
 
 namespace grainbank::mpm::testing {
@@ -74,7 +75,7 @@ inline Solver block_with(std::unique_ptr<ConstitutiveLaw> law, double shear_rate
   return solver;
 }
 
-inline double hit_rate(const Solver& solver) { return solver.law(0).counters().hit_rate(); }
+inline double hit_rate(const Solver& solver) { return io::coupling_counters(solver, 0).hit_rate(); }
 
 // Drives one point of a law outside the MPM step, as the step would: each increment F_inc over dt
 // (at L = log F_inc / dt) and the point's deformation gradient composed from them.

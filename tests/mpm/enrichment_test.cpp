@@ -6,7 +6,7 @@
 #include "coupling_test_util.hpp"
 #include "store/error.hpp"
 #include "store/merge.hpp"
-#include "coupling/enrichment.hpp"
+#include "dem_laws/enrichment.hpp"
 #include "store/sampler_lock.hpp"
 
 namespace grainbank::mpm {
@@ -20,7 +20,7 @@ constexpr int kSteps = 8;
 double run_block(const std::filesystem::path& dir, std::int64_t id, bool enrich) {
   Solver solver = block_with(library_law(dir, id, coupling_settings(Fallback::warm_start, enrich)));
   for (int step = 0; step < kSteps; ++step) solver.step(kDt);
-  solver.law(0).finish();
+  solver.finish();
   return hit_rate(solver);
 }
 

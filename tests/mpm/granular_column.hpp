@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "core/diagnostics.hpp"
-#include "core/drucker_prager_law.hpp"
+#include "laws/drucker_prager_law.hpp"
 #include "mpm_test_util.hpp"
 
 namespace grainbank::mpm::testing {

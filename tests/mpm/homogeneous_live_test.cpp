@@ -13,11 +13,11 @@
 #include "cell/matrix_functions.hpp"
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/live_dem_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "common/temporary_directory.hpp"
 #include "core/solver.hpp"
 #include "io/scene_input.hpp"
-#include "path_driver.hpp"
+#include "app/path_driver.hpp"
 
 namespace grainbank::mpm {
 namespace {

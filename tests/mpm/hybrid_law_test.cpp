@@ -39,10 +39,10 @@ TEST(HybridLaw, EmptyLibraryEqualsLiveToRoundOff) {
       expect_same_stress(a.stress, b.stress, 1e-12);
       EXPECT_NEAR(a.volume, b.volume, 1e-12 * b.volume);
       EXPECT_EQ(a.position, b.position);
-      EXPECT_EQ(hybrid.law(0).source(a.slot), StressSource::live);
+      EXPECT_EQ(stress_source(hybrid.law(0), a.slot), StressSource::live);
     }
   }
-  const CouplingCounters c = hybrid.law(0).counters();
+  const CouplingCounters c = io::coupling_counters(hybrid, 0);
   EXPECT_EQ(c.went_live, 16u);
   EXPECT_EQ(c.misses, 16u);
   EXPECT_EQ(c.hits, 0u);
@@ -73,7 +73,7 @@ TEST(HybridLaw, RestartContinuesExactlyLikeTheUninterruptedRun) {
   for (std::size_t k = 0; k < resumed.points().size(); ++k) {
     EXPECT_EQ(resumed.points()[k].stress.in_plane, uninterrupted.points()[k].stress.in_plane);
     EXPECT_EQ(resumed.points()[k].position, uninterrupted.points()[k].position);
-    EXPECT_EQ(resumed.law(0).source(resumed.points()[k].slot), StressSource::live);
+    EXPECT_EQ(stress_source(resumed.law(0), resumed.points()[k].slot), StressSource::live);
   }
 }
 

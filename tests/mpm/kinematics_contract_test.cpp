@@ -10,9 +10,9 @@
 
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/elastic_law.hpp"
+#include "laws/elastic_law.hpp"
 #include "core/kinematic_increment.hpp"
-#include "core/live_dem_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "core/solver.hpp"
 
 namespace grainbank::mpm {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "core/drucker_prager_law.hpp"
-#include "core/elastic_law.hpp"
+#include "laws/drucker_prager_law.hpp"
+#include "laws/elastic_law.hpp"
 #include "core/gravity.hpp"
 
 namespace grainbank::mpm {

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <string>
 
-#include "core/elastic_law.hpp"
+#include "laws/elastic_law.hpp"
 #include "core/seeding.hpp"
 #include "core/solver.hpp"
 

@@ -8,7 +8,7 @@
 
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
-#include "core/live_dem_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "io/restart.hpp"
 #include "mpm_test_util.hpp"
 

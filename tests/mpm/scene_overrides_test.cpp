@@ -8,7 +8,7 @@
 
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
-#include "scene_overrides.hpp"
+#include "app/scene_overrides.hpp"
 
 namespace grainbank::mpm::app {
 namespace {
@@ -74,15 +74,15 @@ TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
 }
 
 TEST(SceneOverrides, ErrorsNameTheFlagAndTheExpectedValue) {
-  EXPECT_EQ(error_of(kScene, {.law = "elastic", .library = std::nullopt}), "--law: expected live, cache or hybrid, got \"elastic\"");
+  EXPECT_EQ(error_of(kScene, {.law = "elastic", .library = std::nullopt}), "--law: expected \"cache\", \"hybrid\" or \"live\", got \"elastic\"");
   EXPECT_EQ(error_of(kScene, {.law = std::nullopt, .library = ""}),
             "--library: expected a library directory, got an empty path");
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
   EXPECT_EQ(error_of(analytic, {.law = std::nullopt, .library = "LIB"}),
-            "--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+            "--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
   EXPECT_EQ(error_of(analytic, {.law = "live", .library = "LIB"}),
-            "--law/--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+            "--law/--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
 }
 
 // A two-point live scene with a small cell, one point tracked.
@@ -133,7 +133,7 @@ TEST(SceneOverrides, CommandLineRunsTheRewrittenSceneAndWritesTrackedCells) {
                           " --law plastic --out " + out.string() + " 2> " + (dir.path() / "stderr.txt").string();
   EXPECT_NE(std::system(bad.c_str()), 0);
   EXPECT_EQ(first_line(dir.path() / "stderr.txt"),
-            "mpm_solver: --law: expected live, cache or hybrid, got \"plastic\"");
+            "mpm_solver: --law: expected \"cache\", \"hybrid\" or \"live\", got \"plastic\"");
   // A library that does not exist: the loader's error, with the rewritten scene named.
   const std::string missing = std::string(MPM_SOLVER_BINARY) + " " + (dir.path() / "scene.json").string() +
                               " --library " + (dir.path() / "nolib").string() + " --out " + out.string() + " 2> " +

@@ -9,10 +9,10 @@
 #include "cell/preparation.hpp"
 #include "cell/snow_preset.hpp"
 #include "common/temporary_directory.hpp"
-#include "core/live_dem_law.hpp"
+#include "dem_laws/live_dem_law.hpp"
 #include "io/tracked_cells.hpp"
 #include "mpm_test_util.hpp"
-#include "packing_csv.hpp"
+#include "app/packing_csv.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -1,10 +1,13 @@
-#include "drucker_prager_law.hpp"
+#include "laws/drucker_prager_law.hpp"
 
 #include <cmath>
 #include <limits>
 #include <numbers>
 #include <stdexcept>
 #include <string>
+
+#include "common/json_input.hpp"
+#include "laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 
@@ -49,5 +52,28 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial) const {
 void DruckerPragerLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
   stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment));
 }
+
+namespace {
+
+// {"law": "drucker_prager", "density": ρ, "young": E, "poisson": ν, "friction_angle": φ [degrees],
+//  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0)}
+constexpr std::string_view kKeys[] = {"name",    "law",           "density",         "young",
+                                      "poisson", "friction_angle", "cohesion", "tensile_strength"};
+
+std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext&) {
+  using common::Range;
+  DruckerPragerParameters p;
+  p.elasticity = read_elasticity(material);
+  p.friction_angle = material.number("friction_angle", Range::between(0, 90, false, true)) * std::numbers::pi / 180;
+  p.cohesion = material.number_or("cohesion", 0, Range::at_least(0));
+  p.tensile_strength = material.number_or("tensile_strength", 0, Range::at_least(0));
+  return common::at_node(material, [&] {
+    return std::make_unique<DruckerPragerLaw>(material.number("density", Range::positive()), p);
+  });
+}
+
+const LawRegistration registration{{"drucker_prager", kKeys, false, &read}};
+
+}  // namespace
 
 }  // namespace grainbank::mpm

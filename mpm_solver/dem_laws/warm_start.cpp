@@ -1,4 +1,4 @@
-#include "warm_start.hpp"
+#include "dem_laws/warm_start.hpp"
 
 #include <cmath>
 

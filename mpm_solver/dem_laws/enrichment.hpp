@@ -23,7 +23,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "library_link.hpp"
+#include "dem_laws/library_link.hpp"
 #include "store/sampler_lock.hpp"
 
 namespace grainbank::mpm {

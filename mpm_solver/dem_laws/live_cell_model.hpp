@@ -4,8 +4,8 @@
 // behaves exactly like a point of the live law.
 #pragma once
 #include "cell/dem_cell.hpp"
-#include "kinematic_increment.hpp"
-#include "types.hpp"
+#include "core/kinematic_increment.hpp"
+#include "core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -22,10 +22,11 @@
 #include <vector>
 
 #include "core/constitutive_law.hpp"
-#include "core/live_cell_model.hpp"
-#include "enrichment.hpp"
-#include "library_link.hpp"
-#include "warm_start.hpp"
+#include "core/dem_backed_law.hpp"
+#include "dem_laws/enrichment.hpp"
+#include "dem_laws/library_link.hpp"
+#include "dem_laws/live_cell_model.hpp"
+#include "dem_laws/warm_start.hpp"
 
 namespace grainbank::mpm {
 
@@ -41,7 +42,7 @@ struct LibraryLawSettings {
   LiveDemSettings live;            // of the live cells (and of the wave speed of cached points)
 };
 
-class LibraryLaw : public ConstitutiveLaw {
+class LibraryLaw : public ConstitutiveLaw, public DemBackedLaw {
  public:
   // Throws std::invalid_argument on bad settings or when the cache law gets an empty library.
   LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings settings);
@@ -56,26 +57,22 @@ class LibraryLaw : public ConstitutiveLaw {
   double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return points_[slot].damage; }
   bool expensive() const override { return live_points_ > 0; }
-  StressSource source(std::size_t slot) const override { return points_[slot].source; }
-  double estimated_error(std::size_t slot) const override { return points_[slot].error; }
-  CouplingCounters counters() const override;
-  CouplingCounters point_counters(std::size_t slot) const override { return points_[slot].counters; }
+  // Per point its damage, whether it is live, its steps inside the tolerance, its replay history and
+  // its live cell. A restored live point starts a new enriched path.
+  void save_state(LawStateWriter& out) const override;
+  void restore_state(LawStateReader& in) override;
   // Marks the enriched paths of the live points done. Idempotent.
   void finish() override;
+  const DemBackedLaw* dem_backed() const override { return this; }
 
+  StressSource source(std::size_t slot) const override { return points_[slot].source; }
+  double estimated_error(std::size_t slot) const override { return points_[slot].error; }
+  CouplingCounters point_counters(std::size_t slot) const override { return points_[slot].counters; }
   const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
+  // The sum of the point counters.
+  CouplingCounters counters() const;
+
   const LibraryLink& link() const { return *link_; }
-  // What a point carries from step to step besides its stress and cell, for restart files.
-  struct CarriedState {
-    double damage = 0;
-    int steps_inside = 0;                     // live: consecutive steps within the tolerance
-    std::vector<KinematicIncrement> history;  // replay: every increment since the start
-  };
-  CarriedState carried_state(std::size_t slot) const;
-  // The point continues with this state and (when live) cell, as in the run that saved them. A
-  // restored live point starts a new enriched path.
-  void restore_point(std::size_t slot, CarriedState state, std::optional<dem::CellState> cell);
-  const Enrichment* enrichment() const { return enrichment_.get(); }
 
  private:
   struct Point {
@@ -91,6 +88,7 @@ class LibraryLaw : public ConstitutiveLaw {
   lookup::LookupAnswer ask(const Point& p, const Mat2& F, const Mat2& L) const;
   void go_live(std::size_t slot, Point& p, const Mat2& F_before, const lookup::LookupAnswer& answer, double dt);
   void advance_live(Point& p, const KinematicIncrement& increment, PointStress& stress);
+  void start_enriched_path(Point& p, const nlohmann::json& origin);
 
   std::unique_ptr<LibraryLink> link_;
   LibraryLawSettings settings_;

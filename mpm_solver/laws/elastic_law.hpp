@@ -5,7 +5,11 @@
 #pragma once
 #include <vector>
 
-#include "constitutive_law.hpp"
+#include "core/constitutive_law.hpp"
+
+namespace grainbank::common {
+class JsonNode;
+}
 
 namespace grainbank::mpm {
 
@@ -19,6 +23,8 @@ struct Elasticity {
 
 // Throws std::invalid_argument naming the offending parameter.
 void check(const Elasticity& e);
+// "young" and "poisson" of a material object (shared with the plastic laws' readers).
+Elasticity read_elasticity(const common::JsonNode& material);
 
 // The elastic trial stress after the increment F_inc (shared with the plastic laws).
 PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const KinematicIncrement& increment);

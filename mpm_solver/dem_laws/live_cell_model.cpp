@@ -1,4 +1,4 @@
-#include "live_cell_model.hpp"
+#include "dem_laws/live_cell_model.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "enrichment.hpp"
+#include "dem_laws/enrichment.hpp"
 
 #include <unistd.h>
 

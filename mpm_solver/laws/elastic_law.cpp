@@ -1,10 +1,13 @@
-#include "elastic_law.hpp"
+#include "laws/elastic_law.hpp"
 
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
 #include <Eigen/Geometry>
+
+#include "common/json_input.hpp"
+#include "laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 
@@ -13,6 +16,11 @@ void check(const Elasticity& e) {
     throw std::invalid_argument("young: expected a positive number, got " + std::to_string(e.young));
   if (!(e.poisson > -1 && e.poisson < 0.5))
     throw std::invalid_argument("poisson: expected a number in (-1, 0.5), got " + std::to_string(e.poisson));
+}
+
+Elasticity read_elasticity(const common::JsonNode& material) {
+  using common::Range;
+  return {material.number("young", Range::positive()), material.number("poisson", Range::between(-1, 0.5, true, true))};
 }
 
 PointStress elastic_predictor(const Elasticity& e, const PointStress& stress, const KinematicIncrement& increment) {
@@ -42,5 +50,20 @@ std::size_t ElasticLaw::add_point(PointStress& initial_stress) {
 void ElasticLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
   stress = elastic_predictor(elasticity_, stress, increment);
 }
+
+namespace {
+
+// {"law": "elastic", "density": ρ [kg/m³], "young": E [Pa], "poisson": ν}
+constexpr std::string_view kKeys[] = {"name", "law", "density", "young", "poisson"};
+
+std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext&) {
+  return common::at_node(material, [&] {
+    return std::make_unique<ElasticLaw>(material.number("density", common::Range::positive()), read_elasticity(material));
+  });
+}
+
+const LawRegistration registration{{"elastic", kKeys, false, &read}};
+
+}  // namespace
 
 }  // namespace grainbank::mpm

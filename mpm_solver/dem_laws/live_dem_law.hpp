@@ -6,12 +6,13 @@
 #pragma once
 #include <vector>
 
-#include "constitutive_law.hpp"
-#include "live_cell_model.hpp"
+#include "core/constitutive_law.hpp"
+#include "core/dem_backed_law.hpp"
+#include "dem_laws/live_cell_model.hpp"
 
 namespace grainbank::mpm {
 
-class LiveDemLaw : public ConstitutiveLaw {
+class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw {
  public:
   // Keeps the template's state; each point gets its own DemCell rebuilt from it (never shared).
   LiveDemLaw(const dem::DemCell& cell_template, LiveDemSettings settings);
@@ -25,12 +26,14 @@ class LiveDemLaw : public ConstitutiveLaw {
   double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return damage_[slot]; }
   bool expensive() const override { return true; }
-  StressSource source(std::size_t) const override { return StressSource::live; }
+  // Every cell, as "cell_<slot>"; restoring replaces each point's cell by one continuing from it.
+  void save_state(LawStateWriter& out) const override;
+  void restore_state(LawStateReader& in) override;
+  const DemBackedLaw* dem_backed() const override { return this; }
 
-  const dem::DemCell& cell(std::size_t slot) const { return cells_[slot]; }
+  StressSource source(std::size_t) const override { return StressSource::live; }
   const dem::DemCell* live_cell(std::size_t slot) const override { return &cells_[slot]; }
-  // Replaces the cell of `slot` by one continuing from `state` (restart files).
-  void restore_cell(std::size_t slot, dem::CellState state);
+  const dem::DemCell& cell(std::size_t slot) const { return cells_[slot]; }
 
  private:
   void measure(std::size_t slot);

@@ -1,8 +1,9 @@
-#include "library_law.hpp"
+#include "dem_laws/library_law.hpp"
 
 #include <chrono>
 #include <cstdio>
 #include <stdexcept>
+#include <string>
 
 namespace grainbank::mpm {
 
@@ -113,8 +114,13 @@ void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const
   ++live_points_;
   ++p.counters.went_live;
   p.counters.warm_start_increments += static_cast<std::uint64_t>(increments);
-  if (enrichment_) p.path = enrichment_->start(origin);
+  if (enrichment_) start_enriched_path(p, origin);
   p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void LibraryLaw::start_enriched_path(Point& p, const nlohmann::json& origin) {
+  p.path = enrichment_->start(origin);
+  ++p.counters.enriched_paths;
 }
 
 void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, PointStress& stress) {
@@ -126,7 +132,7 @@ void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, Poi
   p.source = StressSource::live;
   p.error = 0;
   ++p.counters.live_updates;
-  if (enrichment_ && !p.path.open()) p.path = enrichment_->start({{"start", "restart"}});
+  if (enrichment_ && !p.path.open()) start_enriched_path(p, {{"start", "restart"}});
   if (p.path.open()) {
     dem::Mat3 L = dem::Mat3::Zero();
     L.topLeftCorner<2, 2>() = increment.L;
@@ -135,23 +141,54 @@ void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, Poi
   }
 }
 
-LibraryLaw::CarriedState LibraryLaw::carried_state(std::size_t slot) const {
-  const Point& p = points_[slot];
-  return CarriedState{p.damage, p.steps_inside, p.history};
+namespace {
+
+// Per point of the law: slot, damage, live (0/1), steps inside the tolerance; live cells as
+// "cell_<slot>"; the replay histories as rows slot, F_inc (4), L (4), dt, in step order.
+constexpr std::size_t kPointColumns = 4;
+constexpr std::size_t kHistoryColumns = 10;
+std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
+
+}  // namespace
+
+void LibraryLaw::save_state(LawStateWriter& out) const {
+  std::vector<double> rows, history;
+  for (std::size_t slot = 0; slot < points_.size(); ++slot) {
+    const Point& p = points_[slot];
+    rows.insert(rows.end(), {double(slot), p.damage, p.cell ? 1.0 : 0.0, double(p.steps_inside)});
+    for (const KinematicIncrement& r : p.history)
+      history.insert(history.end(), {double(slot), r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), r.L(0, 0), r.L(0, 1),
+                                     r.L(1, 0), r.L(1, 1), r.dt});
+    if (p.cell) out.write_cell(cell_name(slot), *p.cell);
+  }
+  out.write_table("library_points", rows, kPointColumns);
+  out.write_table("replay_history", history, kHistoryColumns);
 }
 
-void LibraryLaw::restore_point(std::size_t slot, CarriedState state, std::optional<dem::CellState> cell) {
-  Point& p = points_[slot];
-  p.damage = state.damage;
-  p.steps_inside = state.steps_inside;
-  p.history = std::move(state.history);
-  if (p.cell) --live_points_;
-  p.cell.reset();
-  if (!cell) return;
-  p.cell = std::make_unique<dem::DemCell>(model_.cell_from(std::move(*cell)));
-  ++live_points_;
-  p.modulus = model_.modulus(p.cell->measures());
-  p.source = StressSource::live;
+void LibraryLaw::restore_state(LawStateReader& in) {
+  for (Point& p : points_) p.history.clear();
+  const std::vector<double> history = in.read_table("replay_history", kHistoryColumns);
+  for (std::size_t r = 0; r < history.size(); r += kHistoryColumns) {
+    KinematicIncrement increment;
+    increment.F << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
+    increment.L << history[r + 5], history[r + 6], history[r + 7], history[r + 8];
+    increment.dt = history[r + 9];
+    points_.at(static_cast<std::size_t>(history[r])).history.push_back(increment);
+  }
+  const std::vector<double> rows = in.read_table("library_points", kPointColumns);
+  for (std::size_t r = 0; r < rows.size(); r += kPointColumns) {
+    const auto slot = static_cast<std::size_t>(rows[r]);
+    Point& p = points_.at(slot);
+    p.damage = rows[r + 1];
+    p.steps_inside = static_cast<int>(rows[r + 3]);
+    if (p.cell) --live_points_;
+    p.cell.reset();
+    if (rows[r + 2] == 0) continue;
+    p.cell = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(cell_name(slot))));
+    ++live_points_;
+    p.modulus = model_.modulus(p.cell->measures());
+    p.source = StressSource::live;
+  }
 }
 
 double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
@@ -168,7 +205,6 @@ double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& 
 CouplingCounters LibraryLaw::counters() const {
   CouplingCounters total;
   for (const Point& p : points_) total += p.counters;
-  if (enrichment_) total.enriched_paths = total.went_live;  // every live cell writes one path
   return total;
 }
 

@@ -1,4 +1,4 @@
-#include "library_link.hpp"
+#include "dem_laws/library_link.hpp"
 
 #include <algorithm>
 

@@ -1,0 +1,49 @@
+#include "dem_laws/dem_material_input.hpp"
+
+#include "app/cell_input.hpp"
+#include "store/library.hpp"
+
+namespace grainbank::mpm {
+
+using common::JsonNode;
+using common::Range;
+
+LiveDemSettings read_live_settings(const JsonNode& material) {
+  LiveDemSettings s;
+  if (const auto sub = material.find("substepping")) {
+    sub->allow_only({"q_t", "q_n", "q_sigma"});
+    s.substepping.q_t = sub->number_or("q_t", s.substepping.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
+    s.substepping.q_n = static_cast<int>(sub->integer_or("q_n", s.substepping.q_n, 1, 1000000));
+    s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
+  }
+  s.q_h = material.number_or("q_h", s.q_h, Range::positive());
+  return s;
+}
+
+dem::DemCell read_cell_template(const JsonNode& material, const std::filesystem::path& folder) {
+  if (material.has("cell") == material.has("library"))
+    material.fail("a live material needs exactly one of \"cell\" (a cell.json) and \"library\" with \"template\"");
+  if (material.has("cell")) return app::build_cell(app::load_cell_input(folder / material.at("cell", "").string()));
+  const JsonNode lib = material.at("library", "");
+  const std::int64_t id = material.at("template", "a template id (integer)").integer(1);
+  try {
+    db::Library library = db::Library::open(folder / lib.string());
+    return library.restore(library.template_cell(id));
+  } catch (const std::exception& e) {
+    lib.fail(e.what());
+  }
+}
+
+void require_effects(const JsonNode& material, const dem::Material& built, const DemEffects& scene,
+                     const std::string& source) {
+  const auto check = [&](const char* name, const std::optional<bool>& wanted, bool on) {
+    if (wanted && *wanted != on)
+      material.fail(source + " was built with " + name + (on ? " on" : " off") + " but the scene's effects." + name +
+                    " is " + (*wanted ? "on" : "off") + "; the run is refused (use a library or cell with the same effects)");
+  };
+  check("cohesion", scene.cohesion, built.effects.bonds);
+  check("kinetic_stress", scene.kinetic_stress, built.effects.kinetic_stress);
+  check("rolling_resistance", scene.rolling_resistance, built.effects.rolling);
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,68 @@
+#include "dem_laws/live_dem_law.hpp"
+
+#include <string>
+
+#include "dem_laws/dem_material_input.hpp"
+#include "laws/law_registry.hpp"
+
+namespace grainbank::mpm {
+
+LiveDemLaw::LiveDemLaw(const dem::DemCell& cell_template, LiveDemSettings settings) : model_(cell_template, settings) {}
+
+std::size_t LiveDemLaw::add_point(PointStress& initial_stress) {
+  cells_.push_back(model_.new_cell());  // a deep copy: the point owns its cell
+  modulus_.push_back(0);
+  damage_.push_back(0);
+  measure(cells_.size() - 1);
+  initial_stress = plane_stress_of(cells_.back().measures().stress);
+  return cells_.size() - 1;
+}
+
+void LiveDemLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
+  stress = plane_stress_of(model_.advance(cells_[slot], increment));
+  measure(slot);
+}
+
+void LiveDemLaw::save_state(LawStateWriter& out) const {
+  for (std::size_t slot = 0; slot < cells_.size(); ++slot) out.write_cell("cell_" + std::to_string(slot), cells_[slot]);
+}
+
+void LiveDemLaw::restore_state(LawStateReader& in) {
+  for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
+    cells_[slot] = model_.cell_from(in.read_cell("cell_" + std::to_string(slot)));
+    measure(slot);
+  }
+}
+
+void LiveDemLaw::measure(std::size_t slot) {
+  const dem::CellMeasures m = cells_[slot].measures();
+  modulus_[slot] = model_.modulus(m);
+  damage_[slot] = m.damage;
+}
+
+double LiveDemLaw::volume_ratio(std::size_t slot, const Mat2&) const {
+  return cells_[slot].volume() / model_.template_volume();
+}
+
+double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2&, const Mat2& L) const {
+  return model_.time_step_limit(cells_[slot].cell_matrix(), L);
+}
+
+namespace {
+
+// {"law": "live", "cell": "cell.json"} or {"law": "live", "library": LIB, "template": id}, with the
+// optional "substepping" and "q_h" of every DEM-backed law.
+constexpr std::string_view kKeys[] = {"name", "law", "cell", "library", "template", "substepping", "q_h"};
+
+std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext& scene) {
+  const LiveDemSettings settings = read_live_settings(material);
+  const dem::DemCell cell = read_cell_template(material, scene.folder);
+  require_effects(material, cell.material(), scene.effects, material.has("cell") ? "the cell" : "the library");
+  return common::at_node(material, [&] { return std::make_unique<LiveDemLaw>(cell, settings); });
+}
+
+const LawRegistration registration{{"live", kKeys, true, &read}};
+
+}  // namespace
+
+}  // namespace grainbank::mpm
