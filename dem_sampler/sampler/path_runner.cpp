@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "library_record.hpp"
+#include "lookup/cell_record.hpp"
 
 namespace grainbank::sampler {
 namespace {
@@ -43,7 +43,7 @@ PathOutcome run_path(LibraryWriter& writer, std::int64_t path_id, const db::KeyS
     app::drive_along_path(cell, work.plan.path, [&](const app::PathRecord& record) {
       check_finite(record);
       dem_steps += record.substeps;
-      batch.push_back(to_library_record(record, record.L, scales));
+      batch.push_back(lookup::cell_record(cell, record.L, record.stress, scales));
       if (K > 0 && record.index > 0 && record.index % K == 0) {
         commit();
         writer.snapshot(path_id, record.index, db::StoredCell{cell.state(), cell.skin()});
