@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "app/path_driver.hpp"
 #include "lookup/cell_record.hpp"
 
 namespace grainbank::sampler {
