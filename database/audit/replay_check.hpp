@@ -20,7 +20,7 @@ struct ReplayCheck {
   std::int64_t from_record = 0;  // the snapshot's record index it was replayed from; 0 = the template
   db::Stress6 stored{}, replayed{};
   // False for a path whose spec is not a sampler path (the live cell of an MPM run, enriched into the
-  // library, mpm_solver/coupling/enrichment.hpp): its increments are not stored exactly, so it is
+  // library, mpm_solver/dem_laws/enrichment.hpp): its increments are not stored exactly, so it is
   // not checked (`error` says why) and not flagged.
   bool replayable = true;
   std::string error;  // why the replay failed or was not done; empty on success

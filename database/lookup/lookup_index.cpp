@@ -19,12 +19,6 @@ struct IndexSnapshot {
 
 namespace {
 
-void atomic_max(std::atomic<double>& target, double value) {
-  double current = target.load(std::memory_order_relaxed);
-  while (value > current && !target.compare_exchange_weak(current, value, std::memory_order_relaxed)) {
-  }
-}
-
 // Logarithmic method (Bentley-Saxe): a new block is merged with its predecessors while they are not
 // more than twice its size, so block sizes roughly double from the newest to the oldest.
 std::shared_ptr<const IndexSnapshot> with_block(const IndexSnapshot& old, std::vector<IndexedRecord> records) {
@@ -88,9 +82,7 @@ std::size_t LookupIndex::refresh(db::Library& library) {
 }
 
 LookupAnswer LookupIndex::query(const LookupState& state, const LookupOptions& options) const {
-  const LookupAnswer result = answer(state, options, false);
-  count(result);
-  return result;
+  return answer(state, options, false);
 }
 
 LookupAnswer LookupIndex::query_brute_force(const LookupState& state, const LookupOptions& options) const {
@@ -141,37 +133,6 @@ LookupAnswer LookupIndex::answer(const LookupState& state, const LookupOptions& 
   result.solid_fraction = blended.response.solid_fraction;
   result.stress = to_lab_frame(db::from_stress6(blended.response.material_stress), polar.R);
   return result;
-}
-
-void LookupIndex::count(const LookupAnswer& a) const {
-  queries_.fetch_add(1, std::memory_order_relaxed);
-  (a.hit ? hits_ : misses_).fetch_add(1, std::memory_order_relaxed);
-  if (a.neighbours == 0) return;
-  measured_.fetch_add(1, std::memory_order_relaxed);
-  distance_sum_.fetch_add(a.distance, std::memory_order_relaxed);
-  error_sum_.fetch_add(a.estimated_error, std::memory_order_relaxed);
-  atomic_max(distance_max_, a.distance);
-  atomic_max(error_max_, a.estimated_error);
-}
-
-LookupStats LookupIndex::stats() const {
-  LookupStats s;
-  s.queries = queries_.load();
-  s.hits = hits_.load();
-  s.misses = misses_.load();
-  const std::uint64_t measured = measured_.load();
-  if (measured > 0) {
-    s.mean_distance = distance_sum_.load() / static_cast<double>(measured);
-    s.mean_estimated_error = error_sum_.load() / static_cast<double>(measured);
-  }
-  s.max_distance = distance_max_.load();
-  s.max_estimated_error = error_max_.load();
-  return s;
-}
-
-void LookupIndex::reset_stats() {
-  for (auto* counter : {&queries_, &hits_, &misses_, &measured_}) counter->store(0);
-  for (auto* sum : {&distance_sum_, &distance_max_, &error_sum_, &error_max_}) sum->store(0);
 }
 
 }  // namespace grainbank::lookup

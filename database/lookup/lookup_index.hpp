@@ -9,7 +9,7 @@
 //   hit = (nearest distance <= tolerance). The estimated error is the weighted RMS deviation of the
 //   k stresses from the blend (Frobenius norm, Pa): 0 for an exact match, large where neighbours
 //   disagree.
-// - query(), query_brute_force(), size() and stats() may be called from any number of threads at
+// - query(), query_brute_force() and size() may be called from any number of threads at
 //   once, also while another thread inserts or refreshes: a query sees the index as it was when it
 //   started (an immutable snapshot behind an atomic pointer) and never waits for a writer.
 // - insert() and refresh() are serialised among themselves. Inserted records become visible to
@@ -19,8 +19,7 @@
 //   carries its k-th best distance into the smaller blocks, which are then mostly pruned at their
 //   root; within a block, nodes are pruned by the tight bounding box of their keys (key_block.hpp).
 //   The search is exact (the same neighbours and distances as query_brute_force); measured with
-//   `celldb bench`.
-// - Every query() is counted (stats()).
+//   `celldb bench`. The index keeps no counts: hits and misses are the callers' (each answer says).
 #pragma once
 #include <atomic>
 #include <memory>
@@ -59,23 +58,16 @@ class LookupIndex {
 
   // Throws std::invalid_argument for options.k == 0 or a state whose F has det F <= 0.
   LookupAnswer query(const LookupState& state, const LookupOptions& options = {}) const;
-  // The same answer from a scan of every record; not counted in stats(). For tests and benchmarks.
+  // The same answer from a scan of every record. For tests and benchmarks.
   LookupAnswer query_brute_force(const LookupState& state, const LookupOptions& options = {}) const;
-
-  LookupStats stats() const;
-  void reset_stats();
 
  private:
   LookupAnswer answer(const LookupState& state, const LookupOptions& options, bool brute_force) const;
-  void count(const LookupAnswer& answer) const;
 
   db::KeyScales scales_;
   std::atomic<std::shared_ptr<const IndexSnapshot>> snapshot_;
   std::mutex writer_;                    // serialises insert/refresh
   std::set<std::int64_t> indexed_paths_;  // guarded by writer_
-
-  mutable std::atomic<std::uint64_t> queries_{0}, hits_{0}, misses_{0}, measured_{0};
-  mutable std::atomic<double> distance_sum_{0}, distance_max_{0}, error_sum_{0}, error_max_{0};
 };
 
 }  // namespace grainbank::lookup

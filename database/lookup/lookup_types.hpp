@@ -48,11 +48,4 @@ struct LookupAnswer {
   RecordRef nearest;           // origin of the nearest record (valid when neighbours > 0)
 };
 
-// Counted over every query() since construction or reset_stats().
-struct LookupStats {
-  std::uint64_t queries = 0, hits = 0, misses = 0;
-  double mean_distance = 0, max_distance = 0;                 // over queries on a non-empty index
-  double mean_estimated_error = 0, max_estimated_error = 0;  // [Pa], same queries
-};
-
 }  // namespace grainbank::lookup

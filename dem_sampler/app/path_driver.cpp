@@ -14,11 +14,13 @@ long segment_increments(const PathSegment& s, double dt) {
   return std::max(1L, static_cast<long>(std::ceil(s.duration / dt * (1 - kSlack))));
 }
 
-PathRecord record_of(const dem::DemCell& cell, long index, const dem::Mat3& stress) {
+PathRecord record_of(const dem::DemCell& cell, long index, const dem::Mat3& L, long substeps, const dem::Mat3& stress) {
   PathRecord r;
   r.index = index;
   r.time = cell.time();
   r.F = cell.deformation_gradient();
+  r.L = L;
+  r.substeps = substeps;
   r.stress = stress;
   r.measures = cell.measures();
   return r;
@@ -35,7 +37,7 @@ long increment_count(const PathSpec& path) {
 void drive_along_path(dem::DemCell& cell, const PathSpec& path,
                       const std::function<void(const PathRecord&)>& on_record, long from_record) {
   long index = 0;
-  if (from_record == 0) on_record(record_of(cell, index, cell.measures().stress));
+  if (from_record == 0) on_record(record_of(cell, index, dem::Mat3::Zero(), 0, cell.measures().stress));
   for (const PathSegment& segment : path.segments) {
     const long n = segment_increments(segment, path.record_interval);
     const dem::Mat3 full_increment = dem::matrix_exponential(segment.L * path.record_interval);
@@ -48,7 +50,7 @@ void drive_along_path(dem::DemCell& cell, const PathSpec& path,
           k < n ? path.record_interval : segment.duration - static_cast<double>(n - 1) * path.record_interval;
       const dem::Mat3 increment = k < n ? full_increment : dem::matrix_exponential(segment.L * dt);
       const dem::IncrementResult result = cell.advance(increment, dt, path.substepping);
-      on_record(record_of(cell, ++index, result.stress));
+      on_record(record_of(cell, ++index, segment.L, result.substeps, result.stress));
     }
   }
 }

@@ -12,6 +12,8 @@ struct PathRecord {
   long index = 0;         // 0 for the state before the first increment
   double time = 0;        // cell time [s]
   dem::Mat3 F;            // deformation gradient since the cell's reference configuration
+  dem::Mat3 L = dem::Mat3::Zero();  // velocity gradient imposed over the increment that ended here
+  long substeps = 0;      // DEM steps of that increment (the engine's, dem::IncrementResult)
   dem::Mat3 stress;       // tension-positive [Pa]; regressed over the last Q_σ of the increment
   dem::CellMeasures measures;
 };
@@ -20,7 +22,7 @@ struct PathRecord {
 // segment shortened so the segment ends exactly at its duration.
 long increment_count(const PathSpec& path);
 
-// Calls `on_record` with the initial state and after every increment. Engine errors propagate.
+// Calls `on_record` with the initial state (L zero, no substeps) and after every increment. Engine errors propagate.
 // With `from_record` = k > 0 the cell is the path's cell right after record k (a snapshot of it): the
 // drive resumes there, calling `on_record` for records k+1, ... with the same increments, so they
 // repeat the full drive's records bit for bit (what `celldb audit` checks).

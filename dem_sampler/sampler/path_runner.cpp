@@ -4,36 +4,13 @@
 #include <cmath>
 #include <sstream>
 
-#include "library_record.hpp"
+#include "app/path_driver.hpp"
+#include "lookup/cell_record.hpp"
 
 namespace grainbank::sampler {
 namespace {
 
 struct Abandoned {};
-
-// The velocity gradient imposed over the increment ending at each record (record 0: none), laid out
-// as the path driver lays out its increments.
-std::vector<dem::Mat3> gradients_by_record(const app::PathSpec& path) {
-  std::vector<dem::Mat3> L{dem::Mat3::Zero()};
-  for (const app::PathSegment& segment : path.segments) {
-    const app::PathSpec one{{segment}, path.record_interval, path.substepping};
-    L.insert(L.end(), static_cast<std::size_t>(app::increment_count(one)), segment.L);
-  }
-  return L;
-}
-
-// DEM steps of the whole path, by the engine's own rule (substepping.hpp).
-long dem_steps_of(const app::PathSpec& path, double dem_step) {
-  long steps = 0;
-  for (const app::PathSegment& segment : path.segments) {
-    const app::PathSpec one{{segment}, path.record_interval, path.substepping};
-    const long n = app::increment_count(one);
-    const double last = segment.duration - static_cast<double>(n - 1) * path.record_interval;
-    steps += (n - 1) * (n > 1 ? dem::substep_count(path.record_interval, dem_step, path.substepping.q_n) : 0) +
-             dem::substep_count(last, dem_step, path.substepping.q_n);
-  }
-  return steps;
-}
 
 void check_finite(const app::PathRecord& r) {
   if (r.stress.allFinite() && r.F.allFinite() && std::isfinite(r.measures.kinetic_energy)) return;
@@ -62,11 +39,12 @@ PathOutcome run_path(LibraryWriter& writer, std::int64_t path_id, const db::KeyS
   try {
     dem::DemCell cell(work.start->state, writer.material(), work.start->skin);
     outcome.spheres = cell.size();
-    const std::vector<dem::Mat3> L = gradients_by_record(work.plan.path);
     const long K = work.plan.snapshot_interval;
+    long dem_steps = 0;
     app::drive_along_path(cell, work.plan.path, [&](const app::PathRecord& record) {
       check_finite(record);
-      batch.push_back(to_library_record(record, L.at(static_cast<std::size_t>(record.index)), scales));
+      dem_steps += record.substeps;
+      batch.push_back(lookup::cell_record(cell, record.L, record.stress, scales));
       if (K > 0 && record.index > 0 && record.index % K == 0) {
         commit();
         writer.snapshot(path_id, record.index, db::StoredCell{cell.state(), cell.skin()});
@@ -76,7 +54,7 @@ PathOutcome run_path(LibraryWriter& writer, std::int64_t path_id, const db::KeyS
       if (options.stop && options.stop->load()) throw Abandoned{};
     });
     commit();
-    outcome.dem_steps = dem_steps_of(work.plan.path, cell.time_step(work.plan.path.substepping.q_t));
+    outcome.dem_steps = dem_steps;
     outcome.wall_time = elapsed();
     writer.finish(path_id, db::PathStatus::done, outcome.wall_time);
   } catch (const Abandoned&) {

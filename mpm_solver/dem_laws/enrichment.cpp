@@ -2,7 +2,7 @@
 
 #include <unistd.h>
 
-#include "lookup/state_key.hpp"
+#include "lookup/cell_record.hpp"
 #include "store/path_queue.hpp"
 
 namespace grainbank::mpm {
@@ -41,19 +41,7 @@ RunPath Enrichment::start(const nlohmann::json& origin) {
 }
 
 void Enrichment::add(RunPath& path, const dem::DemCell& cell, const dem::Mat3& L, const dem::Mat3& stress) {
-  const dem::CellMeasures m = cell.measures();
-  db::Record r;
-  r.time = cell.time();
-  r.F = cell.deformation_gradient();
-  r.L = L;
-  r.stress = db::to_stress6(stress);
-  r.damage = m.damage;
-  r.solid_fraction = m.solid_fraction;
-  r.coordination = m.coordination;
-  r.bonds = m.bonds;
-  r.kinetic_energy = m.kinetic_energy;
-  r.key = lookup::state_key(r.F, L, m.damage, link_.scales());
-  path.pending.push_back(r);
+  path.pending.push_back(lookup::cell_record(cell, L, stress, link_.scales()));
   const std::int64_t index = path.records++;
   if (snapshot_interval_ > 0 && (index + 1) % snapshot_interval_ == 0) {
     commit(path);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "cell/matrix_functions.hpp"
+#include "cell/substepping.hpp"
 #include "record_table.hpp"
 
 namespace grainbank {
@@ -60,6 +61,15 @@ TEST(PathDriver, RecordsEveryIncrementAndEndsSegmentsExactly) {
   const Mat3 expected = dem::matrix_exponential(compression * 0.2) * dem::matrix_exponential(L * 0.35);
   EXPECT_TRUE(records.back().F.isApprox(expected, 1e-12)) << records.back().F;
   for (const auto& r : records) EXPECT_TRUE(r.stress.allFinite());
+  // Each record carries the increment that ended at it: its L and the engine's sub-step count.
+  EXPECT_TRUE(records[0].L.isZero());
+  EXPECT_EQ(records[0].substeps, 0);
+  const double dem_step = cell.time_step(path.substepping.q_t);
+  const double durations[] = {0, 0.1, 0.1, 0.1, 0.35 - 3 * 0.1, 0.1, 0.1};  // the shortened last one
+  for (std::size_t k = 1; k < records.size(); ++k) {
+    EXPECT_EQ(records[k].L, k <= 4 ? L : compression) << k;
+    EXPECT_EQ(records[k].substeps, dem::substep_count(durations[k], dem_step, path.substepping.q_n)) << k;
+  }
 }
 
 TEST(RecordTable, ColumnsMatchValuesAndStressInvariants) {

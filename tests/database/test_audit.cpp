@@ -189,7 +189,7 @@ TEST_F(Audit, LiveCellPathsOfMpmRunsAreIndexedButNotReplayed) {
   const fs::path lib = library();
   std::size_t live_records = 0;
   {
-    // What an MPM run's enrichment writes (mpm_solver/coupling/enrichment.cpp): its own spec, records.
+    // What an MPM run's enrichment writes (mpm_solver/dem_laws/enrichment.cpp): its own spec, records.
     db::Library library = db::Library::open(lib);
     std::vector<db::Record> records = library.records(1);
     for (db::Record& r : records) r.stress[0] *= 1.01;

@@ -53,7 +53,6 @@ TEST(LookupIndex, AnswersALibraryPathExactlyAtItsOwnStates) {
     EXPECT_EQ(a.estimated_error, 0.0);
     EXPECT_LT(relative_difference(a.stress, db::from_stress6(records[k].stress)), 1e-14) << k;
   }
-  EXPECT_EQ(index.stats().hits, records.size());
 }
 
 TEST(LookupIndex, InterpolatesBetweenTwoRecordsByInverseSquareDistance) {
@@ -125,6 +124,7 @@ TEST(LookupIndex, KAndToleranceBehaviour) {
   const LookupAnswer one = index.query(probe, {1, 0.5});
   EXPECT_EQ(one.neighbours, 1u);
   EXPECT_EQ(one.nearest, (RecordRef{-1, 5}));
+  EXPECT_NEAR(one.distance, 0.3, 1e-9);
   EXPECT_EQ(one.estimated_error, 0.0);
   EXPECT_LT(relative_difference(one.stress, db::from_stress6(records[5].stress)), 1e-12);
   EXPECT_TRUE(one.hit);
@@ -133,14 +133,6 @@ TEST(LookupIndex, KAndToleranceBehaviour) {
   EXPECT_EQ(index.query(probe, {500, 0.5}).neighbours, 200u);
   EXPECT_GT(index.query(probe, {8, 0.5}).estimated_error, 0.0);
   EXPECT_THROW(index.query(probe, {0, 0.5}), std::invalid_argument);
-
-  const LookupStats s = index.stats();
-  EXPECT_EQ(s.queries, 6u);  // the k = 0 query throws before it is counted
-  EXPECT_EQ(s.hits, 4u);
-  EXPECT_EQ(s.misses, 2u);
-  EXPECT_NEAR(s.max_distance, 0.3, 1e-9);
-  index.reset_stats();
-  EXPECT_EQ(index.stats().queries, 0u);
 }
 
 // A state far outside the library (hard case of issue 8): a miss at a large, finite distance whose
@@ -254,7 +246,6 @@ TEST(LookupIndex, ConcurrentQueriesDuringInsertionMatchSerialAnswers) {
       EXPECT_EQ(answers[k].distance, serial[k].distance);
       EXPECT_EQ(answers[k].stress, serial[k].stress);
     }
-  EXPECT_EQ(index.stats().queries, 5 * queries.size());
 }
 
 TEST(LookupIndex, RefreshIndexesDonePathsOnceAndPicksUpNewOnes) {

@@ -3,10 +3,14 @@
 // A library a sampler is writing is refused; the paths of a run that died are closed by the next.
 #include <gtest/gtest.h>
 
+#include "app/path_driver.hpp"
 #include "coupling_test_util.hpp"
 #include "store/error.hpp"
 #include "store/merge.hpp"
 #include "dem_laws/enrichment.hpp"
+#include "sampler/library_writer.hpp"
+#include "sampler/path_plan.hpp"
+#include "sampler/path_runner.hpp"
 #include "store/sampler_lock.hpp"
 
 namespace grainbank::mpm {
@@ -94,6 +98,47 @@ TEST(Enrichment, APathLeftRunningByADeadRunIsClosedWithItsCommittedRecords) {
   EXPECT_EQ(closed.status, db::PathStatus::done);
   EXPECT_EQ(closed.record_count, 4);
   EXPECT_EQ(link.locked([&](db::Library& library) { return library.records(closed.id).size(); }), 4u);
+}
+
+// The library holds one kind of record whoever drove the cell: a live cell written back by a run stores,
+// for the same cell and increments, exactly what the sampler stores along a path.
+TEST(Enrichment, ACellDrivenAlongASamplerPathStoresTheSamplersRecords) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  sampler::PathPlan plan;
+  plan.path.record_interval = 2e-4;
+  plan.path.substepping = {0.1, 1, 0.2};
+  dem::Mat3 shear = dem::Mat3::Zero(), compression = dem::Mat3::Zero();
+  shear(0, 1) = 2;
+  compression(0, 0) = 0.5, compression(1, 1) = -1;
+  plan.path.segments = {{shear, 4 * plan.path.record_interval}, {compression, 2.5 * plan.path.record_interval}};
+  std::int64_t sampled = 0;
+  {
+    db::Library library = db::Library::open(dir);
+    sampled = library.add_path(id, sampler::to_json(plan), library.material());
+    db::ShardWriter shard(library, "rank0");
+    sampler::LibraryWriter writer(library, shard);
+    ASSERT_EQ(sampler::run_path(writer, sampled, library.key_scales(), {}).result, sampler::PathResult::done);
+  }
+
+  LibraryLink link(dir, id, nullptr);
+  std::int64_t enriched = 0;
+  {
+    Enrichment enrichment(link, 0);
+    RunPath path = enrichment.start({{"start", "template"}});
+    enriched = path.id;
+    dem::DemCell cell = stored_template(dir, id);
+    app::drive_along_path(cell, plan.path,
+                          [&](const app::PathRecord& r) { enrichment.add(path, cell, r.L, r.stress); });
+    enrichment.finish(path);
+  }
+  const auto [expected, written] = link.locked(
+      [&](db::Library& library) { return std::pair(library.records(sampled), library.records(enriched)); });
+  ASSERT_EQ(expected.size(), static_cast<std::size_t>(sampler::record_count(plan)));
+  ASSERT_EQ(written.size(), expected.size());
+  for (std::size_t k = 0; k < expected.size(); ++k) EXPECT_TRUE(written[k] == expected[k]) << "record " << k;
+  EXPECT_TRUE(expected.back().L == compression);
+  EXPECT_GT(expected.back().F(0, 1), 0);  // the cell was sheared
 }
 
 }  // namespace
