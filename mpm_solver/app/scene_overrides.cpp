@@ -1,7 +1,7 @@
 #include "scene_overrides.hpp"
 
 #include <algorithm>
-#include <string_view>
+#include <cctype>
 
 #include "common/json_input.hpp"
 #include "io/scene_input.hpp"
@@ -35,11 +35,71 @@ void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
   if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
+// A patch naming a cell gives the material a cell of its own instead of the library's template.
+void merge_material(nlohmann::json& material, const nlohmann::json& patch) {
+  if (patch.contains("cell") && !patch["cell"].is_null()) {
+    material.erase("library");
+    material.erase("template");
+  }
+  material.merge_patch(patch);
+  for (const char* key : {"cell", "library"})
+    if (patch.contains(key)) make_absolute(material, key, std::filesystem::current_path());
+}
+
+// The flags that act on the DEM-backed materials, as the user typed them ("--law/--material").
+std::string material_flags(const SceneOverrides& o) {
+  std::string flags;
+  for (const auto& [given, name] : {std::pair{o.law.has_value(), "--law"}, {o.library.has_value(), "--library"},
+                                    {o.material.has_value(), "--material"}})
+    if (given) flags += (flags.empty() ? "" : "/") + std::string(name);
+  return flags;
+}
+
+// An array index past the end would silently grow the array with nulls.
+void apply_setting(nlohmann::json& scene, const SceneSetting& setting) {
+  const auto& [pointer, value] = setting;
+  const std::string where = "--set " + pointer.to_string();
+  if (pointer.empty()) throw common::InputError(where + ": expected a pointer to a key of the scene, got the root");
+  const nlohmann::json::json_pointer parent = pointer.parent_pointer();
+  if (scene.contains(parent) && scene[parent].is_array()) {
+    const std::string& token = pointer.back();
+    const bool index = !token.empty() && std::all_of(token.begin(), token.end(), [](unsigned char c) { return std::isdigit(c); });
+    if (token != "-" && (!index || std::stoul(token) >= scene[parent].size()))
+      throw common::InputError(where + ": expected an index below " + std::to_string(scene[parent].size()) +
+                               " (or - to append), got \"" + token + "\"");
+  }
+  try {
+    scene[pointer] = value;
+  } catch (const nlohmann::json::exception& e) {
+    throw common::InputError(where + ": cannot be set in this scene (" + e.what() + ")");
+  }
+}
+
 }  // namespace
+
+nlohmann::json parse_material_patch(std::string_view text) {
+  const nlohmann::json patch = nlohmann::json::parse(text, nullptr, false);
+  if (!patch.is_object())
+    throw common::InputError("--material: expected a JSON object of material keys, got \"" + std::string(text) + "\"");
+  return patch;
+}
+
+SceneSetting parse_setting(std::string_view text) {
+  const std::size_t equals = text.find('=');
+  const std::string expected = "--set: expected /json/pointer=JSON value (e.g. /time/end=0.05), got \"" +
+                               std::string(text) + "\"";
+  if (equals == std::string_view::npos || text.empty() || text.front() != '/') throw common::InputError(expected);
+  const nlohmann::json value = nlohmann::json::parse(text.substr(equals + 1), nullptr, false);
+  if (value.is_discarded()) throw common::InputError(expected + ": the value is not JSON (a string needs quotes)");
+  try {
+    return {nlohmann::json::json_pointer(std::string(text.substr(0, equals))), value};
+  } catch (const nlohmann::json::exception&) {
+    throw common::InputError(expected + ": the pointer is not a JSON pointer");
+  }
+}
 
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
                                const SceneOverrides& overrides) {
-  const std::string flags = overrides.law && overrides.library ? "--law/--library" : overrides.law ? "--law" : "--library";
   if (overrides.law && io::dem_material_keys(*overrides.law).empty())
     throw common::InputError("--law: expected " + std::string(kDemBackedList) + ", got \"" + *overrides.law + "\"");
   if (overrides.library && overrides.library->empty())
@@ -60,10 +120,13 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
         m.erase("cell");
         m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();
       }
+      if (overrides.material) merge_material(m, *overrides.material);
     }
-  if (rewritten == 0)
+  const std::string flags = material_flags(overrides);
+  if (rewritten == 0 && !flags.empty())
     throw common::InputError(flags + ": expected a scene with a DEM-backed material (law " + kDemBackedList +
                              "), found none");
+  for (const SceneSetting& setting : overrides.settings) apply_setting(scene, setting);
   return scene;
 }
 
