@@ -74,13 +74,14 @@ class AccuracyVsTimeTest(WorkflowTest):
         info = json.loads(run([BUILD / "database" / "celldb", "info", self.out / "lib", "--json"]))
         self.assertEqual(info["counts"]["paths"], 0)
         self.assertEqual(info["counts"]["templates"], 1)
-        self.assertEqual(info["material"]["contact"]["friction"], weak["material"]["friction"])
+        self.assertEqual(info["material"]["bond"]["tensile_strength"], weak["material"]["bond"]["tensile_strength"])
         scene = json.loads((self.out / "scenes" / "hybrid_enriched_skip.json").read_text())
         material = scene["materials"][0]
         self.assertEqual(material["law"], "hybrid")
         self.assertEqual(material["library"], str((self.out / "lib_enriched").resolve()))
         self.assertEqual(material["lookup"], {"k": 4, "tolerance": 0.5})
         self.assertFalse(material["enrich"])
+        self.assertNotIn("fallback", material)  # the tiny scene's, removed: the law's default
         self.assertEqual(scene["integration"]["skip_strain_increment"], 1e-6)
         self.assertNotIn("lookup", json.loads((self.out / "scenes" / "live.json").read_text())["materials"][0])
 

@@ -61,16 +61,20 @@ ENRICHED = {name: FULL[name] for name in ("live", "hybrid", "enriching", "hybrid
 # it creeps as a whole; the library is the bare template (no generic paths) enriched by `enriching`,
 # looked up with the library's own key scales (1e-2 strain per key unit, tolerance 0.5) and with fine
 # ones. cache_enriched and hybrid_enriched are its former cache_fine and hybrid_wide.
-COARSE_LOOKUP = {"lookup": {"k": 4, "tolerance": 0.5}}
+# The material keys are merged into the scene's (RFC 7396), so None (null) removes what a base scene
+# may set: its key scales, its fallback.
+COARSE_LOOKUP = {"lookup": {"k": 4, "tolerance": 0.5, "scales": None}}
 CREEPING = {
     **{name: FULL[name] for name in ("live", "enriching")},
     "hybrid_enriched_coarse": {"knob": "library of this scene", "value": "hybrid, library key scales",
-                               "law": "hybrid", "library": "enriched", "material": {**COARSE_LOOKUP, "enrich": False}},
+                               "law": "hybrid", "library": "enriched",
+                               "material": {**COARSE_LOOKUP, "fallback": None, "enrich": False}},
     "cache_enriched_coarse": {"knob": "library of this scene", "value": "cache, library key scales", "law": "cache",
                               "library": "enriched", "material": COARSE_LOOKUP},
     # Negligible increments skipped (integration.skip_strain_increment).
     "hybrid_enriched_skip": {"knob": "library of this scene", "value": "hybrid, library key scales, skip 1e-6",
-                             "law": "hybrid", "library": "enriched", "material": {**COARSE_LOOKUP, "enrich": False},
+                             "law": "hybrid", "library": "enriched",
+                             "material": {**COARSE_LOOKUP, "fallback": None, "enrich": False},
                              "settings": {"/integration/skip_strain_increment": 1e-6}},
     "hybrid_enriched_tol_1": {"knob": "library of this scene", "value": "hybrid, tolerance 1", "law": "hybrid",
                               "library": "enriched", "material": hybrid()},
