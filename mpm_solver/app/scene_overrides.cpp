@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <string>
+#include <vector>
 
 #include "common/json_input.hpp"
 #include "io/scene_input.hpp"
@@ -51,23 +53,37 @@ std::string material_flags(const SceneOverrides& o) {
   std::string flags;
   for (const auto& [given, name] : {std::pair{o.law.has_value(), "--law"}, {o.library.has_value(), "--library"},
                                     {o.material.has_value(), "--material"}})
-    if (given) flags += (flags.empty() ? "" : "/") + std::string(name);
+    if (given) flags.append(flags.empty() ? "" : "/").append(name);
   return flags;
 }
 
-// An array index past the end would silently grow the array with nulls.
+// An array index past the end would silently grow the array with nulls: along the pointer, every
+// array must have the index (or "-", appending, at the end).
+void check_indices(const nlohmann::json& scene, nlohmann::json::json_pointer pointer, const std::string& where) {
+  std::vector<std::string> tokens;
+  for (; !pointer.empty(); pointer.pop_back()) tokens.insert(tokens.begin(), pointer.back());
+  const nlohmann::json* node = &scene;
+  for (std::size_t i = 0; i < tokens.size() && node; ++i) {
+    const std::string& token = tokens[i];
+    if (!node->is_array()) {
+      node = node->is_object() && node->contains(token) ? &(*node)[token] : nullptr;
+      continue;
+    }
+    const bool index =
+        !token.empty() && std::all_of(token.begin(), token.end(), [](unsigned char c) { return std::isdigit(c); });
+    if (token == "-" && i + 1 == tokens.size()) return;
+    if (!index || std::stoul(token) >= node->size())
+      throw common::InputError(where + ": expected an index below " + std::to_string(node->size()) +
+                               (i + 1 == tokens.size() ? " (or - to append)" : "") + ", got \"" + token + "\"");
+    node = &(*node)[std::stoul(token)];
+  }
+}
+
 void apply_setting(nlohmann::json& scene, const SceneSetting& setting) {
   const auto& [pointer, value] = setting;
   const std::string where = "--set " + pointer.to_string();
   if (pointer.empty()) throw common::InputError(where + ": expected a pointer to a key of the scene, got the root");
-  const nlohmann::json::json_pointer parent = pointer.parent_pointer();
-  if (scene.contains(parent) && scene[parent].is_array()) {
-    const std::string& token = pointer.back();
-    const bool index = !token.empty() && std::all_of(token.begin(), token.end(), [](unsigned char c) { return std::isdigit(c); });
-    if (token != "-" && (!index || std::stoul(token) >= scene[parent].size()))
-      throw common::InputError(where + ": expected an index below " + std::to_string(scene[parent].size()) +
-                               " (or - to append), got \"" + token + "\"");
-  }
+  check_indices(scene, pointer, where);
   try {
     scene[pointer] = value;
   } catch (const nlohmann::json::exception& e) {
@@ -119,6 +135,7 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
       if (overrides.library) {
         m.erase("cell");
         m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();
+        if (!m.contains("template")) m["template"] = 1;  // a cell's material had none: the library's first
       }
       if (overrides.material) merge_material(m, *overrides.material);
     }

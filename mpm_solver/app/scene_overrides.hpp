@@ -38,7 +38,7 @@ SceneSetting parse_setting(std::string_view text);
 // - "law" replaced by overrides.law (keys the new law does not take, such as a hybrid's "lookup" and
 //   "fallback" under --law live, are dropped);
 // - "library" set to overrides.library (absolute; a "cell" entry is removed, since a library and a
-//   cell file are alternatives; the material's "template" id is kept);
+//   cell file are alternatives; the material's "template" id is kept, 1 when it has none);
 // - overrides.material merged in last (a "cell" there replaces the library and template; null
 //   removes a key; its relative "cell" and "library" are relative to the working directory).
 // The material paths "cell" and "library" are made absolute against `scene_folder`, so the result can

@@ -24,6 +24,16 @@ const nlohmann::json kScene = nlohmann::json::parse(R"({
   ]
 })");
 
+SceneOverrides overrides(std::optional<std::string> law, std::optional<fs::path> library,
+                         std::optional<nlohmann::json> material = std::nullopt, std::vector<SceneSetting> settings = {}) {
+  SceneOverrides o;
+  o.law = std::move(law);
+  o.library = std::move(library);
+  o.material = std::move(material);
+  o.settings = std::move(settings);
+  return o;
+}
+
 std::string error_of(const nlohmann::json& scene, const SceneOverrides& o) {
   try {
     apply_overrides(scene, "/scenes", o);
@@ -34,7 +44,7 @@ std::string error_of(const nlohmann::json& scene, const SceneOverrides& o) {
 }
 
 TEST(SceneOverrides, LawReplacesTheLawOfDemBackedMaterialsOnly) {
-  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = "cache", .library = std::nullopt});
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", overrides("cache", std::nullopt));
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);  // analytic: untouched
   EXPECT_EQ(out["materials"][1]["law"], "cache");
   EXPECT_EQ(out["materials"][2]["law"], "cache");
@@ -51,11 +61,11 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
   scene["materials"][2]["fallback"] = {{"return_after", 5}};
   scene["materials"][2]["enrich"] = true;
   scene["materials"][2]["cell"] = "cells/firn.json";  // a check of the library's material
-  const nlohmann::json live = apply_overrides(scene, "/scenes", {.law = "live", .library = std::nullopt});
+  const nlohmann::json live = apply_overrides(scene, "/scenes", overrides("live", std::nullopt));
   EXPECT_EQ(live["materials"][2], nlohmann::json::parse(R"({"name": "firn", "law": "live", "library": "/scenes/lib",
                                                             "template": 2})"));
   // cache keeps its lookup and drops what only hybrid takes.
-  const nlohmann::json cache = apply_overrides(scene, "/scenes", {.law = "cache", .library = std::nullopt});
+  const nlohmann::json cache = apply_overrides(scene, "/scenes", overrides("cache", std::nullopt));
   EXPECT_EQ(cache["materials"][2]["lookup"], scene["materials"][2]["lookup"]);
   EXPECT_FALSE(cache["materials"][2].contains("fallback"));
   EXPECT_FALSE(cache["materials"][2].contains("enrich"));
@@ -63,34 +73,36 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
 }
 
 TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
-  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "/data/LIB"});
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", overrides(std::nullopt, "/data/LIB"));
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
   EXPECT_FALSE(out["materials"][1].contains("cell"));
   EXPECT_EQ(out["materials"][1]["library"], "/data/LIB");
   EXPECT_EQ(out["materials"][1]["law"], "live");
+  EXPECT_EQ(out["materials"][1]["template"], 1);  // the cell's material named none: the library's first
   EXPECT_EQ(out["materials"][2]["library"], "/data/LIB");
+  EXPECT_EQ(out["materials"][2]["template"], 2);
   // A relative --library is relative to the working directory, like any command-line path.
-  const nlohmann::json rel = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "LIB"});
+  const nlohmann::json rel = apply_overrides(kScene, "/scenes", overrides(std::nullopt, "LIB"));
   EXPECT_EQ(rel["materials"][1]["library"], (fs::current_path() / "LIB").lexically_normal().string());
 }
 
 TEST(SceneOverrides, ErrorsNameTheFlagAndTheExpectedValue) {
-  EXPECT_EQ(error_of(kScene, {.law = "elastic", .library = std::nullopt}), "--law: expected live, cache or hybrid, got \"elastic\"");
-  EXPECT_EQ(error_of(kScene, {.law = std::nullopt, .library = ""}),
+  EXPECT_EQ(error_of(kScene, overrides("elastic", std::nullopt)), "--law: expected live, cache or hybrid, got \"elastic\"");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, "")),
             "--library: expected a library directory, got an empty path");
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
-  EXPECT_EQ(error_of(analytic, {.law = std::nullopt, .library = "LIB"}),
+  EXPECT_EQ(error_of(analytic, overrides(std::nullopt, "LIB")),
             "--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
-  EXPECT_EQ(error_of(analytic, {.law = "live", .library = "LIB"}),
+  EXPECT_EQ(error_of(analytic, overrides("live", "LIB")),
             "--law/--library: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
 }
 
 TEST(SceneOverrides, MaterialPatchMergesIntoDemBackedMaterialsAfterTheLaw) {
   nlohmann::json scene = kScene;
   scene["materials"][2]["lookup"] = {{"k", 4}, {"tolerance", 0.5}};
-  const SceneOverrides o{.law = "hybrid", .library = std::nullopt,
-                         .material = parse_material_patch(R"({"lookup": {"tolerance": 10}, "q_h": null})")};
+  const SceneOverrides o =
+      overrides("hybrid", std::nullopt, parse_material_patch(R"({"lookup": {"tolerance": 10}, "q_h": null})"));
   const nlohmann::json out = apply_overrides(scene, "/scenes", o);
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
   // RFC 7396: objects merge key by key, null removes.
@@ -101,13 +113,13 @@ TEST(SceneOverrides, MaterialPatchMergesIntoDemBackedMaterialsAfterTheLaw) {
 }
 
 TEST(SceneOverrides, MaterialPatchWithACellReplacesTheLibrary) {
-  const SceneOverrides o{.law = "live", .library = "/data/LIB", .material = nlohmann::json{{"cell", "/cells/c64.json"}}};
+  const SceneOverrides o = overrides("live", "/data/LIB", nlohmann::json{{"cell", "/cells/c64.json"}});
   const nlohmann::json out = apply_overrides(kScene, "/scenes", o);
-  EXPECT_EQ(out["materials"][2], nlohmann::json::parse(R"({"name": "firn", "law": "live", "cell": "/cells/c64.json"})"));
+  EXPECT_EQ(out["materials"][2],
+            nlohmann::json::parse(R"({"name": "firn", "law": "live", "cell": "/cells/c64.json"})"));
   // A relative cell of the patch is relative to the working directory.
   const nlohmann::json rel =
-      apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = std::nullopt,
-                                          .material = nlohmann::json{{"cell", "c.json"}}});
+      apply_overrides(kScene, "/scenes", overrides(std::nullopt, std::nullopt, nlohmann::json{{"cell", "c.json"}}));
   EXPECT_EQ(rel["materials"][1]["cell"], (fs::current_path() / "c.json").lexically_normal().string());
 }
 
@@ -115,10 +127,9 @@ TEST(SceneOverrides, SettingsSetKeysOfAnySceneInOrder) {
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
   analytic["regions"] = nlohmann::json::parse(R"([{"material": "rock", "points_per_cell": 2}])");
-  const SceneOverrides o{.law = std::nullopt, .library = std::nullopt, .material = std::nullopt,
-                         .settings = {parse_setting("/time/end=0.05"), parse_setting("/grid/cells=[8, 4]"),
-                                      parse_setting("/regions/0/points_per_cell=1"),
-                                      parse_setting("/time/end=0.1")}};
+  const SceneOverrides o = overrides(std::nullopt, std::nullopt, std::nullopt,
+                                     {parse_setting("/time/end=0.05"), parse_setting("/grid/cells=[8, 4]"),
+                                      parse_setting("/regions/0/points_per_cell=1"), parse_setting("/time/end=0.1")});
   const nlohmann::json out = apply_overrides(analytic, "/scenes", o);
   EXPECT_EQ(out["time"], nlohmann::json::parse(R"({"end": 0.1})"));
   EXPECT_EQ(out["grid"]["cells"], nlohmann::json::parse("[8, 4]"));
@@ -135,15 +146,17 @@ TEST(SceneOverrides, MaterialAndSettingErrorsNameTheFlag) {
     parse_setting("/law=hybrid");
     FAIL() << "an unquoted string was taken";
   } catch (const common::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("the value is not JSON (a string needs quotes)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("the value is not JSON (a string needs quotes)"), std::string::npos)
+        << e.what();
   }
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
-  EXPECT_EQ(error_of(analytic, {.law = std::nullopt, .library = std::nullopt, .material = nlohmann::json::object()}),
+  EXPECT_EQ(error_of(analytic, overrides(std::nullopt, std::nullopt, nlohmann::json::object())),
             "--material: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
-  EXPECT_EQ(error_of(kScene, {.law = std::nullopt, .library = std::nullopt, .material = std::nullopt,
-                              .settings = {parse_setting("/materials/3/q_h=1")}}),
-            "--set /materials/3/q_h: expected an index below 3 (or - to append), got \"3\"");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/3/q_h=1")})),
+            "--set /materials/3/q_h: expected an index below 3, got \"3\"");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/x=1")})),
+            "--set /materials/x: expected an index below 3 (or - to append), got \"x\"");
 }
 
 // A two-point live scene with a small cell, one point tracked.
@@ -216,7 +229,9 @@ TEST(SceneOverrides, SceneCommandWritesTheVariantWithoutRunning) {
                           " --set /time/end=1e-4 --set '/tracked_points=[]' --out " + variant.string();
   ASSERT_EQ(std::system(cmd.c_str()), 0);
   nlohmann::json expected = common::load_json_file(dir.path() / "scene.json");
-  expected["materials"][0] = {{"name", "snow"}, {"law", "hybrid"}, {"cell", (dir.path() / "cells" / "cell.json").string()},
+  expected["materials"][0] = {{"name", "snow"},
+                              {"law", "hybrid"},
+                              {"cell", (dir.path() / "cells" / "cell.json").string()},
                               {"lookup", {{"k", 1}}}};
   expected["time"]["end"] = 1e-4;
   expected["tracked_points"] = nlohmann::json::array();
