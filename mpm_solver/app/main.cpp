@@ -1,6 +1,6 @@
-// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`), the benchmark (`mpm_solver bench`),
-// the audit of a run against live cells (`mpm_solver audit RUN`) or lists the constitutive laws
-// (`mpm_solver laws [--json]`).
+// mpm_solver: runs a 2D MPM scene (`mpm_solver SCENE.json ...`), writes a variant of a scene without
+// running it (`mpm_solver scene`), the benchmark (`mpm_solver bench`), the audit of a run against
+// live cells (`mpm_solver audit RUN`) or lists the constitutive laws (`mpm_solver laws [--json]`).
 // Every error is one line on stderr starting with "mpm_solver: " and the exit code is 1.
 #include <omp.h>
 
@@ -8,18 +8,54 @@
 #include <cstdio>
 #include <cstring>
 #include <exception>
+#include <fstream>
 #include <iostream>
 #include <string>
 
 #include "app/audit_command.hpp"
 #include "app/bench_command.hpp"
 #include "app/laws_command.hpp"
+#include "common/json_input.hpp"
 #include "common/stop_signals.hpp"
 #include "run_command.hpp"
+#include "scene_overrides.hpp"
 
 using namespace grainbank::mpm::app;
 
 namespace {
+
+// The flags that rewrite a scene, shared by a run and `mpm_solver scene`.
+void add_override_options(CLI::App& cli, SceneOverrides& o) {
+  cli.add_option("--law", o.law, "law of every DEM-backed material (live, cache, hybrid): live, cache or hybrid");
+  cli.add_option("--library", o.library, "cell library of every DEM-backed material (replaces \"cell\")");
+  cli.add_option_function<std::string>(
+      "--material", [&o](const std::string& text) { o.material = parse_material_patch(text); },
+      "JSON object merged into every DEM-backed material (RFC 7396: null removes a key)");
+  cli.add_option_function<std::vector<std::string>>(
+         "--set",
+         [&o](const std::vector<std::string>& texts) {
+           for (const std::string& text : texts) o.settings.push_back(parse_setting(text));
+         },
+         "POINTER=JSON: sets one key of the scene, e.g. /time/end=0.05 (repeatable, applied in order)")
+      ->allow_extra_args(false);
+}
+
+int scene_main(int argc, char** argv) {
+  CLI::App cli("mpm_solver scene: writes SCENE.json as rewritten by the overrides, without running it; its cell and "
+               "library paths are absolute, so the file can be run from anywhere");
+  std::filesystem::path scene, out;
+  SceneOverrides o;
+  cli.add_option("scene", scene, "scene JSON file")->required();
+  add_override_options(cli, o);
+  cli.add_option("--out", out, "the scene file to write")->required();
+  CLI11_PARSE(cli, argc, argv);
+  const nlohmann::json doc = apply_overrides(grainbank::common::load_json_file(scene), scene.parent_path(), o);
+  if (out.has_parent_path()) std::filesystem::create_directories(out.parent_path());
+  std::ofstream file(out);
+  file << doc.dump(2) << '\n';
+  if (!file) throw std::runtime_error(out.string() + ": cannot write the scene");
+  return 0;
+}
 
 int bench_main(int argc, char** argv) {
   CLI::App cli("mpm_solver bench: material-point updates/s (elastic) and live-DEM cost per point-step");
@@ -63,15 +99,14 @@ int audit_main(int argc, char** argv) {
 
 int run_main(int argc, char** argv) {
   CLI::App cli("mpm_solver: 2D plane-strain MPM with analytic and live DEM laws\n"
-               "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--out DIR] [--restart FILE] [--threads N] "
-               "[--json] | mpm_solver bench --help | mpm_solver audit --help");
+               "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--material JSON] [--set POINTER=JSON]... "
+               "[--out DIR] [--restart FILE] [--threads N] [--json] | mpm_solver scene --help | mpm_solver bench --help "
+               "| mpm_solver audit --help");
   RunOptions o;
   int threads = 0;
   bool json = false;
   cli.add_option("scene", o.scene, "scene JSON file")->required();
-  cli.add_option("--law", o.overrides.law,
-                 "law of every DEM-backed material (live, cache, hybrid): live, cache or hybrid");
-  cli.add_option("--library", o.overrides.library, "cell library of every DEM-backed material (replaces \"cell\")");
+  add_override_options(cli, o.overrides);
   cli.add_option("--out", o.out, "output folder (default mpm_out)");
   cli.add_option("--restart", o.restart, "resume from a restart file written by an earlier run of this scene");
   cli.add_option("--threads", threads, "OpenMP threads (default: all)")->check(CLI::PositiveNumber);
@@ -106,6 +141,7 @@ int run_main(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   try {
+    if (argc > 1 && std::string(argv[1]) == "scene") return scene_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "bench") return bench_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "audit") return audit_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "laws") return laws_main(argc - 1, argv + 1);

@@ -41,7 +41,7 @@ nlohmann::json phases_json(const PhaseTimes& p) {
           {"stress", p.stress},             {"sort", p.sort}};
 }
 
-// The scene file of the run: the file itself, or with --law/--library its rewritten JSON, kept in
+// The scene file of the run: the file itself, or with overrides its rewritten JSON, kept in
 // the output folder under the scene's own name (so that loader errors name the same file and key).
 std::filesystem::path scene_of_run(const RunOptions& o) {
   if (!o.overrides.any()) return o.scene;
@@ -58,7 +58,7 @@ io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file) {
   try {
     return io::load_scene(file);
   } catch (const common::InputError& e) {
-    throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by --law/--library: " +
+    throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by the command line: " +
                              file.string() + ")");
   }
 }

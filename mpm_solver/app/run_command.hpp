@@ -16,7 +16,8 @@ struct RunOptions {
   std::filesystem::path scene;
   std::filesystem::path out = "mpm_out";
   std::filesystem::path restart;  // resume from this restart file (empty: start at t = 0)
-  // --law / --library: the scene as rewritten is saved to OUT/scene/<scene file name> and run.
+  // --law, --library, --material, --set: the scene as rewritten is saved to OUT/scene/<scene file
+  // name> and run.
   SceneOverrides overrides;
   bool progress = true;  // a progress line with ETA on stderr
   // Polled after every step (the CLI wires SIGINT/SIGTERM to it): once true, the run stops there,

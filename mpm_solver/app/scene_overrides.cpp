@@ -1,7 +1,9 @@
 #include "app/scene_overrides.hpp"
 
 #include <algorithm>
-#include <string_view>
+#include <cctype>
+#include <string>
+#include <vector>
 
 #include "common/json_input.hpp"
 #include "laws/law_registry.hpp"
@@ -38,11 +40,85 @@ void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
   if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
+// A patch naming a cell gives the material a cell of its own instead of the library's template.
+void merge_material(nlohmann::json& material, const nlohmann::json& patch) {
+  if (patch.contains("cell") && !patch["cell"].is_null()) {
+    material.erase("library");
+    material.erase("template");
+  }
+  material.merge_patch(patch);
+  for (const char* key : {"cell", "library"})
+    if (patch.contains(key)) make_absolute(material, key, std::filesystem::current_path());
+}
+
+// The flags that act on the DEM-backed materials, as the user typed them ("--law/--material").
+std::string material_flags(const SceneOverrides& o) {
+  std::string flags;
+  for (const auto& [given, name] : {std::pair{o.law.has_value(), "--law"}, {o.library.has_value(), "--library"},
+                                    {o.material.has_value(), "--material"}})
+    if (given) flags.append(flags.empty() ? "" : "/").append(name);
+  return flags;
+}
+
+// An array index past the end would silently grow the array with nulls: along the pointer, every
+// array must have the index (or "-", appending, at the end).
+void check_indices(const nlohmann::json& scene, nlohmann::json::json_pointer pointer, const std::string& where) {
+  std::vector<std::string> tokens;
+  for (; !pointer.empty(); pointer.pop_back()) tokens.insert(tokens.begin(), pointer.back());
+  const nlohmann::json* node = &scene;
+  for (std::size_t i = 0; i < tokens.size() && node; ++i) {
+    const std::string& token = tokens[i];
+    if (!node->is_array()) {
+      node = node->is_object() && node->contains(token) ? &(*node)[token] : nullptr;
+      continue;
+    }
+    const bool index =
+        !token.empty() && std::all_of(token.begin(), token.end(), [](unsigned char c) { return std::isdigit(c); });
+    if (token == "-" && i + 1 == tokens.size()) return;
+    if (!index || std::stoul(token) >= node->size())
+      throw common::InputError(where + ": expected an index below " + std::to_string(node->size()) +
+                               (i + 1 == tokens.size() ? " (or - to append)" : "") + ", got \"" + token + "\"");
+    node = &(*node)[std::stoul(token)];
+  }
+}
+
+void apply_setting(nlohmann::json& scene, const SceneSetting& setting) {
+  const auto& [pointer, value] = setting;
+  const std::string where = "--set " + pointer.to_string();
+  if (pointer.empty()) throw common::InputError(where + ": expected a pointer to a key of the scene, got the root");
+  check_indices(scene, pointer, where);
+  try {
+    scene[pointer] = value;
+  } catch (const nlohmann::json::exception& e) {
+    throw common::InputError(where + ": cannot be set in this scene (" + e.what() + ")");
+  }
+}
+
 }  // namespace
+
+nlohmann::json parse_material_patch(std::string_view text) {
+  const nlohmann::json patch = nlohmann::json::parse(text, nullptr, false);
+  if (!patch.is_object())
+    throw common::InputError("--material: expected a JSON object of material keys, got \"" + std::string(text) + "\"");
+  return patch;
+}
+
+SceneSetting parse_setting(std::string_view text) {
+  const std::size_t equals = text.find('=');
+  const std::string expected = "--set: expected /json/pointer=JSON value (e.g. /time/end=0.05), got \"" +
+                               std::string(text) + "\"";
+  if (equals == std::string_view::npos || text.empty() || text.front() != '/') throw common::InputError(expected);
+  const nlohmann::json value = nlohmann::json::parse(text.substr(equals + 1), nullptr, false);
+  if (value.is_discarded()) throw common::InputError(expected + ": the value is not JSON (a string needs quotes)");
+  try {
+    return {nlohmann::json::json_pointer(std::string(text.substr(0, equals))), value};
+  } catch (const nlohmann::json::exception&) {
+    throw common::InputError(expected + ": the pointer is not a JSON pointer");
+  }
+}
 
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
                                const SceneOverrides& overrides) {
-  const std::string flags = overrides.law && overrides.library ? "--law/--library" : overrides.law ? "--law" : "--library";
   if (overrides.law && !is_dem_backed(*overrides.law))
     throw common::InputError("--law: expected " + dem_backed_law_names() + ", got \"" + *overrides.law + "\"");
   if (overrides.library && overrides.library->empty())
@@ -62,11 +138,15 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
       if (overrides.library) {
         m.erase("cell");
         m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();
+        if (!m.contains("template")) m["template"] = 1;  // a cell's material had none: the library's first
       }
+      if (overrides.material) merge_material(m, *overrides.material);
     }
-  if (rewritten == 0)
+  const std::string flags = material_flags(overrides);
+  if (rewritten == 0 && !flags.empty())
     throw common::InputError(flags + ": expected a scene with a DEM-backed material (law " + dem_backed_law_names() +
                              "), found none");
+  for (const SceneSetting& setting : overrides.settings) apply_setting(scene, setting);
   return scene;
 }
 

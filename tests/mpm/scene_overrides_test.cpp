@@ -1,6 +1,7 @@
-// `--law` and `--library` rewrite the DEM-backed materials of a scene (and only those) at the JSON
-// level; bad values are refused naming the flag and what was expected; the binary runs a live scene
-// with `--law live` and keeps the rewritten scene in its output folder.
+// `--law`, `--library` and `--material` rewrite the DEM-backed materials of a scene (and only those)
+// at the JSON level, `--set` any key; bad values are refused naming the flag and what was expected;
+// the binary runs a live scene with `--law live` and keeps the rewritten scene in its output folder,
+// and `mpm_solver scene` writes a variant without running it.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -23,6 +24,16 @@ const nlohmann::json kScene = nlohmann::json::parse(R"({
   ]
 })");
 
+SceneOverrides overrides(std::optional<std::string> law, std::optional<fs::path> library,
+                         std::optional<nlohmann::json> material = std::nullopt, std::vector<SceneSetting> settings = {}) {
+  SceneOverrides o;
+  o.law = std::move(law);
+  o.library = std::move(library);
+  o.material = std::move(material);
+  o.settings = std::move(settings);
+  return o;
+}
+
 std::string error_of(const nlohmann::json& scene, const SceneOverrides& o) {
   try {
     apply_overrides(scene, "/scenes", o);
@@ -33,7 +44,7 @@ std::string error_of(const nlohmann::json& scene, const SceneOverrides& o) {
 }
 
 TEST(SceneOverrides, LawReplacesTheLawOfDemBackedMaterialsOnly) {
-  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = "cache", .library = std::nullopt});
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", overrides("cache", std::nullopt));
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);  // analytic: untouched
   EXPECT_EQ(out["materials"][1]["law"], "cache");
   EXPECT_EQ(out["materials"][2]["law"], "cache");
@@ -50,11 +61,11 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
   scene["materials"][2]["fallback"] = {{"return_after", 5}};
   scene["materials"][2]["enrich"] = true;
   scene["materials"][2]["cell"] = "cells/firn.json";  // a check of the library's material
-  const nlohmann::json live = apply_overrides(scene, "/scenes", {.law = "live", .library = std::nullopt});
+  const nlohmann::json live = apply_overrides(scene, "/scenes", overrides("live", std::nullopt));
   EXPECT_EQ(live["materials"][2], nlohmann::json::parse(R"({"name": "firn", "law": "live", "library": "/scenes/lib",
                                                             "template": 2})"));
   // cache keeps its lookup and drops what only hybrid takes.
-  const nlohmann::json cache = apply_overrides(scene, "/scenes", {.law = "cache", .library = std::nullopt});
+  const nlohmann::json cache = apply_overrides(scene, "/scenes", overrides("cache", std::nullopt));
   EXPECT_EQ(cache["materials"][2]["lookup"], scene["materials"][2]["lookup"]);
   EXPECT_FALSE(cache["materials"][2].contains("fallback"));
   EXPECT_FALSE(cache["materials"][2].contains("enrich"));
@@ -62,27 +73,90 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
 }
 
 TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
-  const nlohmann::json out = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "/data/LIB"});
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", overrides(std::nullopt, "/data/LIB"));
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
   EXPECT_FALSE(out["materials"][1].contains("cell"));
   EXPECT_EQ(out["materials"][1]["library"], "/data/LIB");
   EXPECT_EQ(out["materials"][1]["law"], "live");
+  EXPECT_EQ(out["materials"][1]["template"], 1);  // the cell's material named none: the library's first
   EXPECT_EQ(out["materials"][2]["library"], "/data/LIB");
+  EXPECT_EQ(out["materials"][2]["template"], 2);
   // A relative --library is relative to the working directory, like any command-line path.
-  const nlohmann::json rel = apply_overrides(kScene, "/scenes", {.law = std::nullopt, .library = "LIB"});
+  const nlohmann::json rel = apply_overrides(kScene, "/scenes", overrides(std::nullopt, "LIB"));
   EXPECT_EQ(rel["materials"][1]["library"], (fs::current_path() / "LIB").lexically_normal().string());
 }
 
 TEST(SceneOverrides, ErrorsNameTheFlagAndTheExpectedValue) {
-  EXPECT_EQ(error_of(kScene, {.law = "elastic", .library = std::nullopt}), "--law: expected \"cache\", \"hybrid\" or \"live\", got \"elastic\"");
-  EXPECT_EQ(error_of(kScene, {.law = std::nullopt, .library = ""}),
+  EXPECT_EQ(error_of(kScene, overrides("elastic", std::nullopt)), "--law: expected \"cache\", \"hybrid\" or \"live\", got \"elastic\"");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, "")),
             "--library: expected a library directory, got an empty path");
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
-  EXPECT_EQ(error_of(analytic, {.law = std::nullopt, .library = "LIB"}),
+  EXPECT_EQ(error_of(analytic, overrides(std::nullopt, "LIB")),
             "--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
-  EXPECT_EQ(error_of(analytic, {.law = "live", .library = "LIB"}),
+  EXPECT_EQ(error_of(analytic, overrides("live", "LIB")),
             "--law/--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
+}
+
+TEST(SceneOverrides, MaterialPatchMergesIntoDemBackedMaterialsAfterTheLaw) {
+  nlohmann::json scene = kScene;
+  scene["materials"][2]["lookup"] = {{"k", 4}, {"tolerance", 0.5}};
+  const SceneOverrides o =
+      overrides("hybrid", std::nullopt, parse_material_patch(R"({"lookup": {"tolerance": 10}, "q_h": null})"));
+  const nlohmann::json out = apply_overrides(scene, "/scenes", o);
+  EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
+  // RFC 7396: objects merge key by key, null removes.
+  EXPECT_EQ(out["materials"][2]["lookup"], nlohmann::json::parse(R"({"k": 4, "tolerance": 10})"));
+  EXPECT_EQ(out["materials"][1]["lookup"], nlohmann::json::parse(R"({"tolerance": 10})"));
+  EXPECT_FALSE(out["materials"][1].contains("q_h"));
+  EXPECT_EQ(out["materials"][1]["law"], "hybrid");
+}
+
+TEST(SceneOverrides, MaterialPatchWithACellReplacesTheLibrary) {
+  const SceneOverrides o = overrides("live", "/data/LIB", nlohmann::json{{"cell", "/cells/c64.json"}});
+  const nlohmann::json out = apply_overrides(kScene, "/scenes", o);
+  EXPECT_EQ(out["materials"][2],
+            nlohmann::json::parse(R"({"name": "firn", "law": "live", "cell": "/cells/c64.json"})"));
+  // A relative cell of the patch is relative to the working directory.
+  const nlohmann::json rel =
+      apply_overrides(kScene, "/scenes", overrides(std::nullopt, std::nullopt, nlohmann::json{{"cell", "c.json"}}));
+  EXPECT_EQ(rel["materials"][1]["cell"], (fs::current_path() / "c.json").lexically_normal().string());
+}
+
+TEST(SceneOverrides, SettingsSetKeysOfAnySceneInOrder) {
+  nlohmann::json analytic = kScene;
+  analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
+  analytic["regions"] = nlohmann::json::parse(R"([{"material": "rock", "points_per_cell": 2}])");
+  const SceneOverrides o = overrides(std::nullopt, std::nullopt, std::nullopt,
+                                     {parse_setting("/time/end=0.05"), parse_setting("/grid/cells=[8, 4]"),
+                                      parse_setting("/regions/0/points_per_cell=1"), parse_setting("/time/end=0.1")});
+  const nlohmann::json out = apply_overrides(analytic, "/scenes", o);
+  EXPECT_EQ(out["time"], nlohmann::json::parse(R"({"end": 0.1})"));
+  EXPECT_EQ(out["grid"]["cells"], nlohmann::json::parse("[8, 4]"));
+  EXPECT_EQ(out["regions"][0]["points_per_cell"], 1);
+  EXPECT_EQ(out["materials"], analytic["materials"]);
+}
+
+TEST(SceneOverrides, MaterialAndSettingErrorsNameTheFlag) {
+  EXPECT_THROW(parse_material_patch("[1]"), common::InputError);
+  EXPECT_THROW(parse_material_patch("{lookup"), common::InputError);
+  EXPECT_THROW(parse_setting("time/end=1"), common::InputError);
+  EXPECT_THROW(parse_setting("/time/end"), common::InputError);
+  try {
+    parse_setting("/law=hybrid");
+    FAIL() << "an unquoted string was taken";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the value is not JSON (a string needs quotes)"), std::string::npos)
+        << e.what();
+  }
+  nlohmann::json analytic = kScene;
+  analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
+  EXPECT_EQ(error_of(analytic, overrides(std::nullopt, std::nullopt, nlohmann::json::object())),
+            "--material: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/3/q_h=1")})),
+            "--set /materials/3/q_h: expected an index below 3, got \"3\"");
+  EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/x=1")})),
+            "--set /materials/x: expected an index below 3 (or - to append), got \"x\"");
 }
 
 // A two-point live scene with a small cell, one point tracked.
@@ -141,9 +215,33 @@ TEST(SceneOverrides, CommandLineRunsTheRewrittenSceneAndWritesTrackedCells) {
   EXPECT_NE(std::system(missing.c_str()), 0);
   const std::string line = first_line(dir.path() / "stderr.txt");
   EXPECT_EQ(line.rfind("mpm_solver: scene.json: /materials/0", 0), 0u) << line;
-  EXPECT_NE(line.find("as rewritten by --law/--library: " + (out / "scene" / "scene.json").string()),
+  EXPECT_NE(line.find("as rewritten by the command line: " + (out / "scene" / "scene.json").string()),
             std::string::npos)
       << line;
+}
+
+TEST(SceneOverrides, SceneCommandWritesTheVariantWithoutRunning) {
+  const TemporaryDirectory dir("gb_mpm_scene_command");
+  write_live_scene(dir);
+  const fs::path variant = dir.path() / "variants" / "short.json";
+  const std::string cmd = "cd / && " + std::string(MPM_SOLVER_BINARY) + " scene " +
+                          (dir.path() / "scene.json").string() + R"( --law hybrid --material '{"lookup": {"k": 1}}')" +
+                          " --set /time/end=1e-4 --set '/tracked_points=[]' --out " + variant.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  nlohmann::json expected = common::load_json_file(dir.path() / "scene.json");
+  expected["materials"][0] = {{"name", "snow"},
+                              {"law", "hybrid"},
+                              {"cell", (dir.path() / "cells" / "cell.json").string()},
+                              {"lookup", {{"k", 1}}}};
+  expected["time"]["end"] = 1e-4;
+  expected["tracked_points"] = nlohmann::json::array();
+  EXPECT_EQ(common::load_json_file(variant), expected);
+  EXPECT_FALSE(fs::exists(dir.path() / "variants" / "points.pvd"));
+
+  const std::string bad = std::string(MPM_SOLVER_BINARY) + " scene " + (dir.path() / "scene.json").string() +
+                          " --set /time/end --out " + variant.string() + " 2> " + (dir.path() / "stderr.txt").string();
+  EXPECT_NE(std::system(bad.c_str()), 0);
+  EXPECT_EQ(first_line(dir.path() / "stderr.txt").rfind("mpm_solver: --set: expected /json/pointer=JSON value", 0), 0u);
 }
 
 }  // namespace

@@ -1,13 +1,16 @@
 """The accuracy-versus-time study (workflows/accuracy_vs_time/study.py) in its smoke version: the
 tiny column, live reference, two variants and a hybrid run on a library the study enriched with the
-scene's own states; table, Pareto plot and study JSON; resumed with a run left out."""
+scene's own states; table, Pareto plot and study JSON; resumed with a run left out. The creeping set
+(the former cache_vs_live) on the tiny column: its own cell, no generic paths, its scenes written by
+`mpm_solver scene`."""
 import csv
+import json
 import math
 import shutil
 import sys
 import xml.etree.ElementTree as ET
 
-from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
 
 from plotting import flow, tables, vtu
 
@@ -55,6 +58,32 @@ class AccuracyVsTimeTest(WorkflowTest):
         with (self.out / "results.csv").open() as f:
             self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)), ["enriching", "hybrid", "hybrid_enriched", "live"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)
+
+    def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
+        run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
+             "--variants", "creeping", "--threads", "1", "--skip",
+             "hybrid_enriched_coarse,cache_enriched_coarse,hybrid_enriched_tol_1,hybrid_enriched,cache_enriched"])
+        with (self.out / "results.csv").open() as f:
+            rows = {r["run"]: r for r in csv.DictReader(f)}
+        self.assertEqual(sorted(rows), ["enriching", "hybrid_enriched_skip", "live"])
+        self.assertTrue(all(r["failed"] == "" for r in rows.values()))
+        # The set's own cell is the template, and no generic path was sampled.
+        weak = json.loads((WORKFLOWS / "accuracy_vs_time" / "cell_weak_snow_125.json").read_text())
+        library = self.assert_json_fields(self.out / "study.json", ["library_cost"])
+        self.assertGreater(library["library_cost"]["cpu_s"], 0)
+        info = json.loads(run([BUILD / "database" / "celldb", "info", self.out / "lib", "--json"]))
+        self.assertEqual(info["counts"]["paths"], 0)
+        self.assertEqual(info["counts"]["templates"], 1)
+        self.assertEqual(info["material"]["bond"]["tensile_strength"], weak["material"]["bond"]["tensile_strength"])
+        scene = json.loads((self.out / "scenes" / "hybrid_enriched_skip.json").read_text())
+        material = scene["materials"][0]
+        self.assertEqual(material["law"], "hybrid")
+        self.assertEqual(material["library"], str((self.out / "lib_enriched").resolve()))
+        self.assertEqual(material["lookup"], {"k": 4, "tolerance": 0.5})
+        self.assertFalse(material["enrich"])
+        self.assertNotIn("fallback", material)  # the tiny scene's, removed: the law's default
+        self.assertEqual(scene["integration"]["skip_strain_increment"], 1e-6)
+        self.assertNotIn("lookup", json.loads((self.out / "scenes" / "live.json").read_text())["materials"][0])
 
     def test_a_stopped_run_is_compared_up_to_its_stop(self):
         # The reference alone, then a copy of it cut at t = 0.0015 s (what a run that stopped there

@@ -2,10 +2,13 @@
 """Accuracy versus time on a column collapse: the scene with `live` as reference and every knob that
 trades accuracy for time (variants.py), error against wall and CPU time as a Pareto plot and a table.
 
-  study.py OUT [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json] [--variants full|reduced|enriched|smoke]
-               [--skip RUN,RUN] [--end T] [--threads N] [--build DIR]
+  study.py [OUT] [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json]
+               [--variants full|reduced|enriched|creeping|smoke] [--skip RUN,RUN] [--end T] [--threads N] [--build DIR]
 
-Defaults: the demo's column (workflows/demo/column.json), its soft snow cell and library paths. The
+Defaults: OUT = $GRAINBANK_OUT/accuracy_vs_time (build/out/accuracy_vs_time); the demo's column
+(workflows/demo/column.json), its soft snow cell and library paths, except for a set with inputs of
+its own (variants.INPUTS: `creeping`, the former cache_vs_live comparison). The variant scenes are
+written by `mpm_solver scene` (plotting/scenes.py). The
 library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
 by every library run. Runs on the scene's own library (variants.py, "enriched") use OUT/lib_enriched:
 the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
@@ -20,7 +23,6 @@ Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
 import argparse
 import json
 import math
-import os
 import shutil
 import sys
 from pathlib import Path
@@ -29,19 +31,23 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import flow, scenes, tables, vtu  # noqa: E402  (after the path set-up)
+from plotting import environment, flow, scenes, tables, vtu  # noqa: E402  (after the path set-up)
 from plotting.timing import timed, timed_run  # noqa: E402
 import variants  # noqa: E402
 
 WORKFLOWS = HERE.parent
+DEMO_INPUTS = {"scene": WORKFLOWS / "demo" / "column.json", "cell": WORKFLOWS / "demo" / "cell_soft_snow_125.json",
+               "paths": WORKFLOWS / "demo" / "paths.json"}
 
 
 def build_library(args, build):
     library = args.out / "lib"
     dem_sampler = build / "dem_sampler" / "dem_sampler"
     wall, cpu = timed([dem_sampler, "prepare", args.cell, "--library", library])
-    w, c = timed([dem_sampler, "sample", args.paths, "--library", library, "--threads", args.threads])
-    return library, {"wall_s": wall + w, "cpu_s": cpu + c}
+    if args.paths:
+        w, c = timed([dem_sampler, "sample", args.paths, "--library", library, "--threads", args.threads])
+        wall, cpu = wall + w, cpu + c
+    return library, {"wall_s": wall, "cpu_s": cpu}
 
 
 def prepare_enriched_library(args, build):
@@ -53,30 +59,32 @@ def prepare_enriched_library(args, build):
     return library
 
 
-def scene_of(name, spec, base, library, args):
+def write_scene(name, spec, library, build, args):
     material = dict(spec.get("material", {}))
     if "cell_spheres" in spec:
         cell = json.loads(args.cell.read_text())
         cell["preparation"]["spheres"] = spec["cell_spheres"]
         cell_file = args.out / "cells" / f"{name}.json"
-        scenes.save(cell, cell_file)
+        cell_file.parent.mkdir(parents=True, exist_ok=True)
+        cell_file.write_text(json.dumps(cell, indent=2) + "\n")
         material["cell"] = str(cell_file.resolve())
-    top = {}
+    settings = dict(spec.get("settings", {}))
     if "grid_factor" in spec:
-        grid = dict(base["grid"])
-        grid["cell_size"] = base["grid"]["cell_size"] * spec["grid_factor"]
-        grid["cells"] = [math.ceil(n / spec["grid_factor"]) for n in base["grid"]["cells"]]
-        top["grid"] = grid
-    time_keys = {"end": args.end} if args.end else None
-    return scenes.variant(base, spec["law"], library, material, time_keys, top)
+        grid = json.loads(args.scene.read_text())["grid"]
+        settings["/grid/cell_size"] = grid["cell_size"] * spec["grid_factor"]
+        settings["/grid/cells"] = [math.ceil(n / spec["grid_factor"]) for n in grid["cells"]]
+    if args.end:
+        settings["/time/end"] = args.end
+    scene_file = args.out / "scenes" / f"{name}.json"
+    scenes.variant(build, args.scene, scene_file, spec["law"], library, material, settings)
+    return scene_file
 
 
-def run(name, scene, build, args):
+def run(name, spec, library, build, args):
     folder = args.out / "runs" / name
     if (folder / "study_run.json").exists():
         return json.loads((folder / "study_run.json").read_text())
-    scene_file = args.out / "scenes" / f"{name}.json"
-    scenes.save(scene, scene_file)
+    scene_file = write_scene(name, spec, library, build, args)
     # A run that stops (e.g. a point thrown out of the grid) is a result too: its error is kept and its
     # outputs up to the stop are compared.
     wall, cpu, error = timed_run([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder, "--threads",
@@ -113,16 +121,20 @@ def errors(folder, reference_folder):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out", type=Path)
-    parser.add_argument("--scene", type=Path, default=WORKFLOWS / "demo" / "column.json")
-    parser.add_argument("--cell", type=Path, default=WORKFLOWS / "demo" / "cell_soft_snow_125.json")
-    parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("accuracy_vs_time"))
+    parser.add_argument("--scene", type=Path)
+    parser.add_argument("--cell", type=Path)
+    parser.add_argument("--paths", type=Path)
     parser.add_argument("--variants", choices=sorted(variants.SETS), default="full")
     parser.add_argument("--skip", default="", help="runs of the set to leave out, comma-separated (e.g. grid_x0.5)")
     parser.add_argument("--end", type=float, help="end time [s] instead of the scene's")
-    parser.add_argument("--threads", type=int, default=os.cpu_count())
-    parser.add_argument("--build", type=Path, default=Path(os.environ.get("GRAINBANK_BUILD_DIR", WORKFLOWS.parent / "build")))
+    parser.add_argument("--threads", type=int, default=environment.threads())
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
     args = parser.parse_args()
+    inputs = variants.INPUTS.get(args.variants, DEMO_INPUTS)
+    for key in ("scene", "cell", "paths"):
+        if getattr(args, key) is None:
+            setattr(args, key, inputs[key])
     chosen = variants.SETS[args.variants]
     skipped = [name for name in args.skip.split(",") if name]
     unknown = [name for name in skipped if name not in chosen or name == "live"]
@@ -133,15 +145,14 @@ def main():
     if on_enriched and "enriching" not in chosen:
         parser.error("--skip: the runs on the enriched library need the run enriching, which builds it")
     args.out.mkdir(parents=True, exist_ok=True)
-    build = args.build if args.build.is_absolute() else WORKFLOWS.parent / args.build
+    build = args.build.resolve()
     library, library_cost = build_library(args, build)
     libraries = {"generic": library}
     if on_enriched:
         libraries["enriched"] = prepare_enriched_library(args, build)
-    base = scenes.load(args.scene)
     costs = {}
     for name, spec in chosen.items():
-        costs[name] = run(name, scene_of(name, spec, base, libraries[spec.get("library", "generic")], args), build, args)
+        costs[name] = run(name, spec, libraries[spec.get("library", "generic")], build, args)
         print(f"{name}: {costs[name]['wall_s']:.1f} s wall, {costs[name]['cpu_s']:.1f} s CPU", flush=True)
     reference = args.out / "runs" / "live"
     rows = []

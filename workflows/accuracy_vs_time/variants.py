@@ -1,7 +1,11 @@
 """The runs of the accuracy-versus-time study: every knob that trades accuracy for time, one at a time,
-against the `live` reference. Each variant is (knob, value, law, material keys, top-level scene keys)
-for plotting.scenes.variant; `cell_spheres` asks for a cell of that many spheres (prepared live),
-`grid_factor` scales the grid cell size (same domain, same points per cell)."""
+against the `live` reference. Each variant is (knob, value, law, material keys, scene settings
+{JSON pointer: value}) for plotting.scenes.variant; `cell_spheres` asks for a cell of that many
+spheres (prepared live), `grid_factor` scales the grid cell size (same domain, same points per cell).
+A set may come with its own scene and cell (INPUTS); the others run on the demo's column."""
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
 
 LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
 
@@ -26,7 +30,7 @@ FULL = {
     "hybrid": {"knob": "hybrid (tolerance 1, k 4, warm start)", "value": "", "law": "hybrid", "material": hybrid()},
     "hybrid_tol_0.3": {"knob": "lookup tolerance", "value": 0.3, "law": "hybrid", "material": hybrid(tolerance=0.3)},
     "hybrid_tol_3": {"knob": "lookup tolerance", "value": 3.0, "law": "hybrid", "material": hybrid(tolerance=3.0)},
-    # The setting that met 0.1 % front error at ~130x the live speed in workflows/cache_vs_live.
+    # The setting that met 0.1 % front error at ~130x the live speed on the creeping column (CREEPING).
     "hybrid_tol_10": {"knob": "lookup tolerance (return after 5)", "value": 10.0, "law": "hybrid",
                       "material": hybrid(tolerance=10.0, return_after=5)},
     "hybrid_k_1": {"knob": "lookup k", "value": 1, "law": "hybrid", "material": hybrid(k=1)},
@@ -51,4 +55,33 @@ SMOKE = {name: FULL[name] for name in ("live", "q_sigma_0.5", "hybrid", "enrichi
 REDUCED = {name: FULL[name] for name in ("live", "q_t_0.2", "q_sigma_0.5", "hybrid", "hybrid_tol_3", "hybrid_tol_10",
                                          "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", "hybrid", "enriching", "hybrid_enriched", "cache_enriched")}
-SETS = {"full": FULL, "smoke": SMOKE, "reduced": REDUCED, "enriched": ENRICHED}
+
+# The former workflows/cache_vs_live: a column of a cell with bonds 20x weaker than
+# workflows/scenes/cell_snow_125.json, whose bonds break throughout in the first elastic wave so that
+# it creeps as a whole; the library is the bare template (no generic paths) enriched by `enriching`,
+# looked up with the library's own key scales (1e-2 strain per key unit, tolerance 0.5) and with fine
+# ones. cache_enriched and hybrid_enriched are its former cache_fine and hybrid_wide.
+# The material keys are merged into the scene's (RFC 7396), so None (null) removes what a base scene
+# may set: its key scales, its fallback.
+COARSE_LOOKUP = {"lookup": {"k": 4, "tolerance": 0.5, "scales": None}}
+CREEPING = {
+    **{name: FULL[name] for name in ("live", "enriching")},
+    "hybrid_enriched_coarse": {"knob": "library of this scene", "value": "hybrid, library key scales",
+                               "law": "hybrid", "library": "enriched",
+                               "material": {**COARSE_LOOKUP, "fallback": None, "enrich": False}},
+    "cache_enriched_coarse": {"knob": "library of this scene", "value": "cache, library key scales", "law": "cache",
+                              "library": "enriched", "material": COARSE_LOOKUP},
+    # Negligible increments skipped (integration.skip_strain_increment).
+    "hybrid_enriched_skip": {"knob": "library of this scene", "value": "hybrid, library key scales, skip 1e-6",
+                             "law": "hybrid", "library": "enriched",
+                             "material": {**COARSE_LOOKUP, "fallback": None, "enrich": False},
+                             "settings": {"/integration/skip_strain_increment": 1e-6}},
+    "hybrid_enriched_tol_1": {"knob": "library of this scene", "value": "hybrid, tolerance 1", "law": "hybrid",
+                              "library": "enriched", "material": hybrid()},
+    **{name: FULL[name] for name in ("hybrid_enriched", "cache_enriched")},
+}
+SETS = {"full": FULL, "smoke": SMOKE, "reduced": REDUCED, "enriched": ENRICHED, "creeping": CREEPING}
+# Inputs of a set other than the demo's column, soft cell and generic paths (None: no generic paths,
+# the library is the template alone).
+INPUTS = {"creeping": {"scene": HERE / "creeping_column.json", "cell": HERE / "cell_weak_snow_125.json",
+                       "paths": None}}

@@ -2,16 +2,16 @@
 # Side-by-side throughput of the periodic DEM cell against LAMMPS on the standard benchmark cell
 # (shared/peers/README.md): 1331 frictional spheres, simple shear at constant volume, one core.
 # Usage: workflows/benchmarks/dem_vs_lammps.sh [SHEAR_STEPS] [REPEATS]
-# Needs a built ./build/dem_sampler/dem_sampler and LAMMPS (apt-get install lammps).
+# Needs dem_sampler in the build directory of workflows/env.sh and LAMMPS (apt-get install lammps).
 set -euo pipefail
 steps=${1:-30000}
 repeats=${2:-3}
 here=$(cd "$(dirname "$0")" && pwd)
-root=$(cd "$here/../.." && pwd)
-dem="$root/build/dem_sampler/dem_sampler"
+. "$here/../env.sh"
+dem="$build/dem_sampler/dem_sampler"
 peer_script="$here/lammps_shear.in"
 command -v lmp >/dev/null || { echo "LAMMPS not found: apt-get install lammps" >&2; exit 1; }
-[ -x "$dem" ] || { echo "build dem_sampler first (./run.sh test or cmake --build build)" >&2; exit 1; }
+[ -x "$dem" ] || { echo "build dem_sampler first (./run.sh test or cmake --build $build)" >&2; exit 1; }
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 

@@ -1,23 +1,23 @@
 #!/usr/bin/python3
 """Run time of the full column collapse per law, EXTRAPOLATED from a short probe run of a few steps:
-estimate_time.py OUT [--laws live,hybrid,cache] [--probe-time T] [--threads N] [--build DIR]
+estimate_time.py [OUT] [--laws live,hybrid,cache] [--probe-time T] [--threads N] [--build DIR]
 
 Each probe runs column.json to t = T (default 1e-3 s, ~6 MPM steps) and the estimate is
 setup + (seconds per step) × (scene end time / mean probe step). The probe covers the first steps of
 the settling phase only: later the flow shortens the step (seed Eq. 4) and, for hybrid, more points
 miss and turn live, so hybrid's figure is a lower bound and live's is its upper bound. The hybrid and
 cache probes use a two-path library (paths_probe.json): they time the lookups, not a useful library.
-Writes OUT/estimate.json and OUT/estimate.md.
+Writes OUT/estimate.json and OUT/estimate.md (OUT default: $GRAINBANK_OUT/column_estimate, i.e.
+build/out/column_estimate).
 """
 import argparse
 import json
-import os
 import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import scenes, tables  # noqa: E402  (after the path set-up)
+from plotting import environment, scenes, tables  # noqa: E402  (after the path set-up)
 from plotting.timing import timed  # noqa: E402
 
 
@@ -42,15 +42,15 @@ def estimate(law, summary, cpu, end_time, threads):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out", type=Path)
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("column_estimate"))
     parser.add_argument("--laws", default="live,hybrid,cache")
     parser.add_argument("--probe-time", type=float, default=1e-3)
-    parser.add_argument("--threads", type=int, default=os.cpu_count())
-    parser.add_argument("--build", type=Path, default=Path(os.environ.get("GRAINBANK_BUILD_DIR", HERE.parents[1] / "build")))
+    parser.add_argument("--threads", type=int, default=environment.threads())
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
     args = parser.parse_args()
     build = args.build.resolve()
-    base = scenes.load(HERE / "column.json")
-    end_time = base["time"]["end"]
+    args.out.mkdir(parents=True, exist_ok=True)
+    end_time = json.loads((HERE / "column.json").read_text())["time"]["end"]
     rows = []
     for law in args.laws.split(","):
         library = None
@@ -60,9 +60,9 @@ def main():
             timed([dem_sampler, "prepare", HERE / "cell_snow_370um.json", "--library", library])
             timed([dem_sampler, "sample", HERE / "paths_probe.json", "--library", library, "--threads", args.threads])
         material = json.loads((HERE / "hybrid.json").read_text()) if law == "hybrid" else None
-        time = {"end": args.probe_time, "output_interval": args.probe_time}
+        settings = {"/time/end": args.probe_time, "/time/output_interval": args.probe_time}
         scene_file = args.out / f"probe_{law}.json"
-        scenes.save(scenes.variant(base, law, library, material, time), scene_file)
+        scenes.variant(build, HERE / "column.json", scene_file, law, library, material, settings)
         summary, cpu = run_probe(build, scene_file, args.out / f"probe_{law}", args.threads)
         rows.append(estimate(law, summary, cpu, end_time, args.threads))
         print(f"{law}: {rows[-1]['wall_s_per_step']:.3g} s per step -> extrapolated {rows[-1]['extrapolated_wall_h']:.3g} h "

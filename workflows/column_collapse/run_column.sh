@@ -1,17 +1,17 @@
 #!/bin/sh
 # The paper's benchmark (seed §4): a 2.4 m cohesive snow-like column settling under its own weight,
 # then collapsing when both gates are removed at t = 0.5 s. README, "The paper's column collapse".
-# Usage: run_column.sh [OUT]   (default: ./column_out)
+# Usage: run_column.sh [OUT]   (default: $GRAINBANK_OUT/column, i.e. build/out/column)
 # Environment: LAW = live (the paper's method, default) | hybrid | cache; END = end time [s] (default:
 #   the scene's 2.5 s); PPC = material points per grid cell and direction (default: the scene's 2);
-#   THREADS (default: all cores); GRAINBANK_BUILD_DIR (default: build).
+#   workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS).
 # hybrid and cache first build OUT/lib from paths.json (skipped when already sampled).
 # Run time on 2 cores: hours to days (estimate_time.py measures and extrapolates it; do not start a full
 # run by accident).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
-. "$here/../plotting/workflow_env.sh"
-out=${1:-column_out}
+. "$here/../env.sh"
+out=${1:-$outputs/column}
 law=${LAW:-live}
 mkdir -p "$out"
 set -- --law "$law"
@@ -19,10 +19,10 @@ if [ "$law" != live ]; then
   "$build/dem_sampler/dem_sampler" prepare "$here/cell_snow_370um.json" --library "$out/lib"
   "$build/dem_sampler/dem_sampler" sample "$here/paths.json" --library "$out/lib" --threads "$threads" 2> "$out/sample.log"
   set -- "$@" --library "$out/lib"
-  [ "$law" = hybrid ] && set -- "$@" --material "$here/hybrid.json"
+  [ "$law" = hybrid ] && set -- "$@" --material "$(cat "$here/hybrid.json")"
 fi
-[ -n "${END:-}" ] && set -- "$@" --end "$END"
-[ -n "${PPC:-}" ] && set -- "$@" --points-per-cell "$PPC"
-PYTHONPATH="$here/.." "$python" -m plotting.scenes "$here/column.json" "$out/scene.json" "$@"
+[ -n "${END:-}" ] && set -- "$@" --set "/time/end=$END"
+[ -n "${PPC:-}" ] && set -- "$@" --set "/regions/0/points_per_cell=$PPC"  # the scene has one region
+"$build/mpm_solver/mpm_solver" scene "$here/column.json" "$@" --out "$out/scene.json"
 "$build/mpm_solver/mpm_solver" "$out/scene.json" --out "$out/run" --threads "$threads"
 "$python" "$here/figures.py" "$out/run" "$out/figures"

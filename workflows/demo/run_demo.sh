@@ -1,15 +1,15 @@
 #!/bin/sh
 # The default demo (README, "The demo"): a small cohesive cell library, a cohesive column collapse
 # against it in `hybrid` mode, the audit of that run against live cells, PNG figures and a short report.
-# Usage: run_demo.sh [OUT]   (default: ./demo_out)
-# Environment: GRAINBANK_BUILD_DIR (default: build next to workflows/), THREADS (default: all cores),
+# Usage: run_demo.sh [OUT]   (default: $GRAINBANK_OUT/demo, i.e. build/out/demo; ./run.sh demo passes demo_out)
+# Environment: workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS),
 #              DEMO_SCENE and DEMO_PATHS (other inputs, e.g. the tiny ones of the tests).
 # A second run reuses OUT/lib: `prepare` finds its template, `sample` finds every path registered and
 # done, and the hybrid run indexes the paths the previous runs added (enrichment).
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
-. "$here/../plotting/workflow_env.sh"
-out=${1:-demo_out}
+. "$here/../env.sh"
+out=${1:-$outputs/demo}
 scene=${DEMO_SCENE:-$here/column.json}
 paths=${DEMO_PATHS:-$here/paths.json}
 mkdir -p "$out"

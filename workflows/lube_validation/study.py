@@ -3,9 +3,9 @@
 (kinetic energy below 1e-4 of its peak), and their convergence with the grid size h, the points per
 cell and the time step. Runs mpm_solver on scenes from column_scene.py, one after another.
 
-  /usr/bin/python3 study.py OUT [--build BUILD] [--threads N] [--quick]
+  /usr/bin/python3 study.py [OUT] [--build BUILD] [--threads N] [--quick]
 
-Writes OUT/<case>/ (scene and run), OUT/results.json, OUT/results.md and OUT/runout.png. --quick runs
+Writes (OUT default: $GRAINBANK_OUT/lube_validation, i.e. build/out/lube_validation) OUT/<case>/ (scene and run), OUT/results.json, OUT/results.md and OUT/runout.png. --quick runs
 only the coarse a = 1 case (a smoke test of the workflow).
 """
 import argparse
@@ -20,6 +20,7 @@ import column_scene
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
+from plotting import environment  # noqa: E402
 from plotting.tables import read_csv  # noqa: E402
 
 REST = 1e-4  # kinetic energy / its peak
@@ -115,8 +116,8 @@ def plot(results, file):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out", type=Path)
-    parser.add_argument("--build", type=Path, default=HERE.parent.parent / "build")
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("lube_validation"))
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--quick", action="store_true")
     args = parser.parse_args()
