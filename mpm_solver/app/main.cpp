@@ -15,6 +15,7 @@
 #include "app/audit_command.hpp"
 #include "app/bench_command.hpp"
 #include "app/laws_command.hpp"
+#include "laws/law_registry.hpp"
 #include "common/json_input.hpp"
 #include "common/stop_signals.hpp"
 #include "run_command.hpp"
@@ -26,7 +27,7 @@ namespace {
 
 // The flags that rewrite a scene, shared by a run and `mpm_solver scene`.
 void add_override_options(CLI::App& cli, SceneOverrides& o) {
-  cli.add_option("--law", o.law, "law of every DEM-backed material (live, cache, hybrid): live, cache or hybrid");
+  cli.add_option("--law", o.law, "law of every DEM-backed material: " + grainbank::mpm::dem_backed_law_names());
   cli.add_option("--library", o.library, "cell library of every DEM-backed material (replaces \"cell\")");
   cli.add_option_function<std::string>(
       "--material", [&o](const std::string& text) { o.material = parse_material_patch(text); },

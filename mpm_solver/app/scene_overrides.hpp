@@ -20,7 +20,7 @@ namespace grainbank::mpm::app {
 using SceneSetting = std::pair<nlohmann::json::json_pointer, nlohmann::json>;
 
 struct SceneOverrides {
-  std::optional<std::string> law;                // `--law NAME`: live, cache or hybrid
+  std::optional<std::string> law;                // `--law NAME`: a DEM-backed law (live, cache, hybrid)
   std::optional<std::filesystem::path> library;  // `--library LIB`
   std::optional<nlohmann::json> material;        // `--material JSON`: a merge patch (RFC 7396)
   std::vector<SceneSetting> settings;            // `--set POINTER=VALUE`, in order

@@ -152,7 +152,7 @@ TEST(SceneOverrides, MaterialAndSettingErrorsNameTheFlag) {
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
   EXPECT_EQ(error_of(analytic, overrides(std::nullopt, std::nullopt, nlohmann::json::object())),
-            "--material: expected a scene with a DEM-backed material (law live, cache or hybrid), found none");
+            "--material: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
   EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/3/q_h=1")})),
             "--set /materials/3/q_h: expected an index below 3, got \"3\"");
   EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/x=1")})),
