@@ -17,6 +17,8 @@ namespace {
 // The k best samples not left out, sorted by squared distance (a nanoflann result set).
 class FilteredNearest {
  public:
+  using DistanceType = double;
+  using IndexType = std::size_t;
   FilteredNearest(std::size_t capacity, const std::vector<Sample>& samples, const std::optional<LeaveOut>& leave_out)
       : capacity_(capacity), samples_(samples), leave_out_(leave_out) {}
   std::size_t size() const { return items_.size(); }
