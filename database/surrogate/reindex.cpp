@@ -35,7 +35,7 @@ FeatureConstants library_constants(db::Library& library) {
     diameter += sum / static_cast<double>(cell.radius.size());
   }
   const double n = static_cast<double>(templates.size());
-  FeatureConstants c{pressure / n, pressure / n / 100, diameter / n, library.material().density};
+  FeatureConstants c{pressure / n, pressure / n / 10, diameter / n, library.material().density};
   check(c);
   return c;
 }

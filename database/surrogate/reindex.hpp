@@ -9,8 +9,10 @@
 // - Only committed records of `done` paths are read (as the nearest-state index does); nothing is
 //   written to the library.
 // - The constants come from the library itself: p_ref the mean pressure of its templates (the
-//   pressure they were prepared at), p_floor = p_ref / 100, d the mean grain diameter of its
-//   templates, ρ its material's grain density.
+//   pressure they were prepared at), p_floor = p_ref / 10, d the mean grain diameter of its
+//   templates, ρ its material's grain density. The floor is high on purpose: a cohesive cell near or
+//   in tension gets its stiffness from its bonds, not from p, and normalizing by p_ref/100 made the
+//   answers of such states a hundred times those of compressed ones (measured on a sampled library).
 #pragma once
 #include <vector>
 

@@ -2,6 +2,7 @@
 // sampler (the 64-sphere cohesive cell of the sampler tests), re-indexed for the surrogate.
 #pragma once
 #include <filesystem>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
@@ -10,12 +11,38 @@
 #include "paths_input.hpp"
 #include "sampler.hpp"
 #include "store/path_queue.hpp"
+#include "surrogate/length_scales.hpp"
 #include "surrogate/reindex.hpp"
+#include "surrogate/surrogate_index.hpp"
 #include "template_builder.hpp"
 
 namespace grainbank::surrogate::test {
 
 using sampler::test::TempDir;
+
+// Forty generated two-segment paths (reversals and turns of the principal axes, volumetric and
+// deviatoric, with spin), 0.4 % strain each at 1-3 /s: ~540 intervals, about 2 s to sample.
+inline const char* const kGeneralPaths = R"({
+  "record_interval": 2e-4,
+  "generators": [{"count": 40, "rate": {"min": 1, "max": 3}, "strain": 0.004, "segments": 2,
+                  "changes": ["reversal", "rotation"], "volumetric": 0.5, "spin": 0.2}]
+})";
+
+// The in-plane stress and σ_zz of a state: what the surrogate answers (rate_answer.hpp carries the
+// out-of-plane shears without predicting them).
+inline dem::Mat3 answered_part(const dem::Mat3& stress) {
+  dem::Mat3 s = stress;
+  s(0, 2) = s(2, 0) = s(1, 2) = s(2, 1) = 0;
+  return s;
+}
+
+// An index over `dataset` with length scales fitted on it.
+inline std::unique_ptr<SurrogateIndex> fitted_index(const Dataset& dataset, const SurrogateOptions& options = {}) {
+  const LengthScaleFit fit = fit_length_scales(dataset.constants, dataset.samples, options);
+  auto index = std::make_unique<SurrogateIndex>(dataset.constants, fit.scales, options);
+  index->insert(dataset.samples);
+  return index;
+}
 
 // Prepares the template of kCell and samples every path of `paths_json`, as `dem_sampler prepare`
 // and `sample --threads 2` do. Throws unless every path is done.
