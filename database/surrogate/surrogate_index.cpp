@@ -90,6 +90,7 @@ Sample SurrogateIndex::sample(std::size_t i) const {
 
 void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   if (samples.empty()) return;
+  const std::lock_guard gate(turnstile_);
   const std::unique_lock lock(mutex_);
   const std::size_t first = tree_->samples.size();
   for (const Sample& s : samples) {
@@ -110,6 +111,7 @@ Prediction SurrogateIndex::predict_without(const FeatureVector& features, const 
 Prediction SurrogateIndex::answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const {
   FeatureVector z;
   for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = features[j] / scales_[j];
+  { const std::lock_guard gate(turnstile_); }
   const std::shared_lock lock(mutex_);
   FilteredNearest nearest(options_.k, tree_->samples, leave_out);
   if (!tree_->samples.empty()) tree_->index.findNeighbors(nearest, z.data(), nanoflann::SearchParams());

@@ -10,11 +10,15 @@
 //   the error estimate.
 // - predict(), predict_without(), size() and sample() may be called from any number of threads at
 //   once; insert() may run meanwhile (a shared mutex: queries share it, insert holds it alone
-//   while it adds the samples to the kd-tree, so a query waits at most for one insert). Samples
-//   inserted are visible to queries that start after insert() returns.
+//   while it adds the samples to the kd-tree, so a query waits at most for one insert). A writer
+//   first takes a turnstile that every query passes on its way in, so a stream of queries cannot
+//   starve it (glibc's shared mutex prefers readers: measured, 134 single inserts under three
+//   querying threads took 55 s without it). Samples inserted are visible to queries that start
+//   after insert() returns.
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <shared_mutex>
 #include <vector>
@@ -71,6 +75,7 @@ class SurrogateIndex {
   FeatureConstants constants_;
   LengthScales scales_;
   SurrogateOptions options_;
+  mutable std::mutex turnstile_;
   mutable std::shared_mutex mutex_;
   std::unique_ptr<Tree> tree_;  // guarded by mutex_
 };
