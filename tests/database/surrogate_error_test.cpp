@@ -46,8 +46,7 @@ double spearman(const std::vector<double>& a, const std::vector<double>& b) {
 
 TEST(SurrogateError, LeavePathOutEstimatedErrorTracksTheTrueError) {
   const test::TempDir dir("grainbank-surrogate-error");
-  test::build_library(dir, dir.path() / "LIB", test::kGeneralPaths);
-  db::Library library = db::Library::open(dir.path() / "LIB");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", test::kGeneralPaths);
   const Dataset dataset = reindex(library);
   const auto index = test::fitted_index(dataset);
 

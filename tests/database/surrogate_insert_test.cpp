@@ -45,8 +45,7 @@ class SurrogateInsert : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("grainbank-surrogate-insert");
-    test::build_library(*dir_, dir_->path() / "LIB", kPaths);
-    db::Library library = db::Library::open(dir_->path() / "LIB");
+    db::Library library = test::build_library(*dir_, dir_->path() / "LIB", kPaths);
     dataset_ = new Dataset(reindex(library));
     for (const Sample& s : dataset_->samples) (s.origin.path_id > kCompressions ? base_ : added_).push_back(s);
     // Length scales fitted on the library the run starts with.

@@ -21,8 +21,7 @@ namespace {
 
 TEST(SurrogateIntegration, AStoredPathIsReproducedWithinTheEstimatedError) {
   const test::TempDir dir("grainbank-surrogate-integration");
-  test::build_library(dir, dir.path() / "LIB", test::kGeneralPaths);
-  db::Library library = db::Library::open(dir.path() / "LIB");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", test::kGeneralPaths);
   const Dataset dataset = reindex(library);
   const auto index = test::fitted_index(dataset);
 

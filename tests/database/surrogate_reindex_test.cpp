@@ -13,8 +13,7 @@ namespace {
 
 TEST(SurrogateReindex, AnExistingLibraryReindexes) {
   const test::TempDir dir("grainbank-surrogate-reindex");
-  test::build_library(dir, dir.path() / "LIB", sampler::test::kPaths);
-  db::Library library = db::Library::open(dir.path() / "LIB");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", sampler::test::kPaths);
   const Dataset dataset = reindex(library);
 
   // Constants: the template was prepared at 1000 Pa from diameters in [3.4e-4, 4e-4] m.

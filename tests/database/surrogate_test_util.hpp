@@ -45,8 +45,8 @@ inline std::unique_ptr<SurrogateIndex> fitted_index(const Dataset& dataset, cons
 }
 
 // Prepares the template of kCell and samples every path of `paths_json`, as `dem_sampler prepare`
-// and `sample --threads 2` do. Throws unless every path is done.
-inline void build_library(const TempDir& dir, const std::filesystem::path& library_dir, const std::string& paths_json) {
+// and `sample --threads 2` do, and returns the library. Throws unless every path is done.
+inline db::Library build_library(const TempDir& dir, const std::filesystem::path& library_dir, const std::string& paths_json) {
   const app::CellInput input = app::load_cell_input(dir.write("cell.json", sampler::test::kCell));
   db::Library library = db::Library::create(library_dir, input.material);
   const std::int64_t template_id = sampler::prepare_template(library, "templates", input).id;
@@ -61,6 +61,7 @@ inline void build_library(const TempDir& dir, const std::filesystem::path& libra
   if (summary.done != static_cast<long>(plans.size()))
     throw std::runtime_error("the surrogate test library sampled " + std::to_string(summary.done) + " of " +
                              std::to_string(plans.size()) + " paths");
+  return library;
 }
 
 }  // namespace grainbank::surrogate::test

@@ -49,8 +49,7 @@ double modulus(const std::vector<db::Record>& records, std::size_t a, std::size_
 
 TEST(SurrogateUnloading, APointUnloadsWithTheUnloadingStiffness) {
   const test::TempDir dir("grainbank-surrogate-unloading");
-  test::build_library(dir, dir.path() / "LIB", kPaths);
-  db::Library library = db::Library::open(dir.path() / "LIB");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", kPaths);
   const std::int64_t held_out = 9;  // the last explicit path
   ASSERT_EQ(library.catalogue().path(held_out).spec.find("-3.75") != std::string::npos, true);
 
