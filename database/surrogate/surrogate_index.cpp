@@ -83,11 +83,6 @@ std::size_t SurrogateIndex::size() const {
   return tree_->samples.size();
 }
 
-Sample SurrogateIndex::sample(std::size_t i) const {
-  const std::shared_lock lock(mutex_);
-  return tree_->samples.at(i);
-}
-
 void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   if (samples.empty()) return;
   const std::lock_guard gate(turnstile_);

@@ -8,7 +8,7 @@
 // - predict_without() does the same as if the samples of one path (or one sample) were not in the
 //   index: the leave-one-out predictions that fit the length scales (length_scales.hpp) and test
 //   the error estimate.
-// - predict(), predict_without(), size() and sample() may be called from any number of threads at
+// - predict(), predict_without() and size() may be called from any number of threads at
 //   once; insert() may run meanwhile (a shared mutex: queries share it, insert holds it alone
 //   while it adds the samples to the kd-tree, so a query waits at most for one insert). A writer
 //   first takes a turnstile that every query passes on its way in, so a stream of queries cannot
@@ -61,7 +61,6 @@ class SurrogateIndex {
   const LengthScales& scales() const { return scales_; }
   const SurrogateOptions& options() const { return options_; }
   std::size_t size() const;
-  Sample sample(std::size_t i) const;
 
   void insert(const std::vector<Sample>& samples);
 
