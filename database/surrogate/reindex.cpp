@@ -1,0 +1,53 @@
+#include "reindex.hpp"
+
+#include "store/error.hpp"
+#include "store/library.hpp"
+
+namespace grainbank::surrogate {
+
+PointState point_state(const db::Record& record) {
+  return {db::from_stress6(record.stress), record.solid_fraction, record.coordination, record.damage};
+}
+
+std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
+                                 const FeatureConstants& constants) {
+  std::vector<Sample> samples;
+  for (std::size_t k = 0; k + 1 < records.size(); ++k) {
+    const db::Record& before = records[k];
+    const db::Record& after = records[k + 1];
+    const double dt = after.time - before.time;
+    if (!(dt > 0) || (after.L + after.L.transpose()).norm() == 0) continue;
+    samples.push_back(make_sample(point_state(before), point_state(after), after.L, dt, constants,
+                                  {path_id, static_cast<std::int64_t>(k)}));
+  }
+  return samples;
+}
+
+FeatureConstants library_constants(db::Library& library) {
+  const std::vector<db::TemplateRow> templates = library.catalogue().templates();
+  if (templates.empty()) throw db::StoreError(library.directory(), "no template: the surrogate needs its pressure and grain size");
+  double pressure = 0, diameter = 0;
+  for (const db::TemplateRow& row : templates) {
+    const dem::CellState cell = library.template_cell(row.id).state;
+    pressure += -cell.last_stress.trace() / 3;
+    double sum = 0;
+    for (double r : cell.radius) sum += 2 * r;
+    diameter += sum / static_cast<double>(cell.radius.size());
+  }
+  const double n = static_cast<double>(templates.size());
+  FeatureConstants c{pressure / n, pressure / n / 10, diameter / n, library.material().density};
+  check(c);
+  return c;
+}
+
+Dataset reindex(db::Library& library) {
+  Dataset dataset{library_constants(library), {}};
+  for (const db::PathRow& path : library.catalogue().paths()) {
+    if (path.status != db::PathStatus::done || path.record_count < 2) continue;
+    const std::vector<Sample> samples = path_samples(path.id, library.records(path.id), dataset.constants);
+    dataset.samples.insert(dataset.samples.end(), samples.begin(), samples.end());
+  }
+  return dataset;
+}
+
+}  // namespace grainbank::surrogate

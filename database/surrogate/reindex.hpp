@@ -1,0 +1,44 @@
+// A surrogate dataset from a cell library as it is (issue 13: "existing libraries already hold σ,
+// L, F, D, φ and Z per interval, so they can be re-indexed without resampling").
+//
+// Promises:
+// - Record k+1 of a path stores the L imposed over the interval from record k (record 0 has none;
+//   dem_sampler/sampler/path_runner.cpp), so the interval k → k+1 gives the sample
+//   make_sample(state of record k, state of record k+1, L of record k+1, t_{k+1} − t_k).
+//   Intervals with Δt ≤ 0 or sym L = 0 (rests, pure spins) carry no rate per |D| and are skipped.
+// - Only committed records of `done` paths are read (as the nearest-state index does); nothing is
+//   written to the library.
+// - The constants come from the library itself: p_ref the mean pressure of its templates (the
+//   pressure they were prepared at), p_floor = p_ref / 10, d the mean grain diameter of its
+//   templates, ρ its material's grain density. The floor is high on purpose: a cohesive cell near or
+//   in tension gets its stiffness from its bonds, not from p, and normalizing by p_ref/100 made the
+//   answers of such states a hundred times those of compressed ones (measured on a sampled library).
+#pragma once
+#include <vector>
+
+#include "sample.hpp"
+#include "store/record.hpp"
+
+namespace grainbank::db {
+class Library;
+}
+
+namespace grainbank::surrogate {
+
+struct Dataset {
+  FeatureConstants constants;
+  std::vector<Sample> samples;
+};
+
+PointState point_state(const db::Record& record);
+
+// The samples of one stored path (its records in order).
+std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
+                                 const FeatureConstants& constants);
+
+// Throws db::StoreError when the library has no template.
+FeatureConstants library_constants(db::Library& library);
+
+Dataset reindex(db::Library& library);
+
+}  // namespace grainbank::surrogate

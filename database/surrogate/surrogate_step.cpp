@@ -1,0 +1,21 @@
+#include "surrogate_step.hpp"
+
+namespace grainbank::surrogate {
+
+SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& state, const dem::Mat3& L, double dt,
+                             double tolerance) {
+  SurrogateStep step;
+  const double scale = answer_scale(state.stress, L, index.constants());
+  if (scale == 0) {
+    step.state = advance(state, L, dt, Answer{}, index.constants());
+    step.hit = true;
+    return step;
+  }
+  step.prediction = index.predict(feature_vector(state_features(state, L, index.constants())));
+  step.state = advance(state, L, dt, step.prediction.fit.answer, index.constants());
+  step.estimated_error = step.prediction.fit.stress_error * scale * dt;
+  step.hit = step.estimated_error <= tolerance;
+  return step;
+}
+
+}  // namespace grainbank::surrogate

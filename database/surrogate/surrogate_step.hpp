@@ -1,0 +1,24 @@
+// One step of a material point answered by the surrogate (issue 13: "the point integrates its own
+// state"): features of the point's state under its L, the predicted rate answer, the state after
+// dt, and the estimated error of that state's stress in stress units.
+//
+//   error [Pa] = stress_error (normalized, local_fit.hpp) · p |D| · dt      (rate_answer.hpp)
+//   hit        = error ≤ tolerance [Pa]
+// A point at rest or in a pure spin (|D| = 0) only turns its stress by R = exp(W dt), with zero
+// error: the answers are rates per unit of stretching (relaxation at rest is not represented).
+#pragma once
+#include "surrogate_index.hpp"
+
+namespace grainbank::surrogate {
+
+struct SurrogateStep {
+  PointState state;           // after dt
+  Prediction prediction;      // of the local fit (no neighbours when |D| = 0)
+  double estimated_error = 0;  // [Pa]
+  bool hit = false;
+};
+
+SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& state, const dem::Mat3& L, double dt,
+                             double tolerance);
+
+}  // namespace grainbank::surrogate

@@ -1,0 +1,63 @@
+// Integrating the surrogate's rate answers along a stored path's own velocity gradients (the point
+// carries its state, issue 13) reproduces that path's stress within the accumulated estimated error.
+//
+// The library: forty generated two-segment paths (loading, then reversal or a turn of the axes),
+// all indexed. Each path is integrated from its first record with surrogate_step; at every record k
+// the integrated stress is compared (in-plane and σ_zz) with the stored one. Two accumulations of
+// the per-step estimates e_j: the bound Σ_{j≤k} e_j (every step wrong in the same direction) and the
+// random walk (Σ_{j≤k} e_j²)^½ (independent errors), which fails where the steps share a bias.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "store/library.hpp"
+#include "surrogate/surrogate_step.hpp"
+#include "surrogate_test_util.hpp"
+
+namespace grainbank::surrogate {
+namespace {
+
+TEST(SurrogateIntegration, AStoredPathIsReproducedWithinTheEstimatedError) {
+  const test::TempDir dir("grainbank-surrogate-integration");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", test::kGeneralPaths);
+  const Dataset dataset = reindex(library);
+  const auto index = test::fitted_index(dataset);
+
+  int paths = 0, records_checked = 0, within_bound = 0, within_walk = 0;
+  double worst_relative = 0;  // max over paths of max_k error / max_k |σ_k − σ_0|
+  for (const db::PathRow& path : library.catalogue().paths()) {
+    const std::vector<db::Record> records = library.records(path.id);
+    const dem::Mat3 start = test::answered_part(db::from_stress6(records.front().stress));
+    PointState state = point_state(records.front());
+    double bound = 0, walk2 = 0, worst_error = 0, excursion = 0;
+    for (std::size_t k = 0; k + 1 < records.size(); ++k) {
+      const SurrogateStep step = surrogate_step(*index, state, records[k + 1].L, records[k + 1].time - records[k].time, 0);
+      state = step.state;
+      bound += step.estimated_error;
+      walk2 += step.estimated_error * step.estimated_error;
+      const dem::Mat3 target = test::answered_part(db::from_stress6(records[k + 1].stress));
+      const double error = (test::answered_part(state.stress) - target).norm();
+      ++records_checked;
+      within_bound += error <= bound;
+      within_walk += error <= std::sqrt(walk2);
+      worst_error = std::max(worst_error, error);
+      excursion = std::max(excursion, (target - start).norm());
+    }
+    worst_relative = std::max(worst_relative, worst_error / excursion);
+    ++paths;
+  }
+  std::printf("%d paths, %d records: within the bound %d, within the random walk %d; worst error / excursion %.3f\n",
+              paths, records_checked, within_bound, within_walk, worst_relative);
+  EXPECT_EQ(paths, 40);
+  // Measured: 98 % within the bound, 82 % within the random walk. The misses are first steps out
+  // of the template at rest, where forty paths start from one state in forty directions.
+  EXPECT_GE(within_bound, 0.95 * records_checked);
+  EXPECT_GE(within_walk, 0.75 * records_checked);
+  // Accuracy on the scale of the path itself (excursions of 5-7 kPa); measured 0.13.
+  EXPECT_LT(worst_relative, 0.15);
+}
+
+}  // namespace
+}  // namespace grainbank::surrogate

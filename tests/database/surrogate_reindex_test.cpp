@@ -1,0 +1,67 @@
+// An existing library, sampled by the current sampler (the six paths of the sampler tests), re-indexes
+// for the state-keyed surrogate without resampling: one sample per recorded interval, constants
+// taken from its template and material, and each sample's answer advances its record to the next.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "store/library.hpp"
+#include "surrogate_test_util.hpp"
+
+namespace grainbank::surrogate {
+namespace {
+
+TEST(SurrogateReindex, AnExistingLibraryReindexes) {
+  const test::TempDir dir("grainbank-surrogate-reindex");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", sampler::test::kPaths);
+  const Dataset dataset = reindex(library);
+
+  // Constants: the template was prepared at 1000 Pa from diameters in [3.4e-4, 4e-4] m.
+  EXPECT_NEAR(dataset.constants.p_ref, 1000, 100);
+  EXPECT_NEAR(dataset.constants.p_floor, dataset.constants.p_ref / 10, 1e-12);
+  EXPECT_GT(dataset.constants.diameter, 3.4e-4);
+  EXPECT_LT(dataset.constants.diameter, 4.0e-4);
+  EXPECT_EQ(dataset.constants.density, 920);
+
+  std::size_t expected = 0, checked = 0;
+  for (const db::PathRow& path : library.catalogue().paths()) {
+    ASSERT_EQ(path.status, db::PathStatus::done);
+    const std::vector<db::Record> records = library.records(path.id);
+    expected += records.size() - 1;  // every interval of these paths stretches the cell
+    for (const Sample& s : dataset.samples) {
+      if (s.origin.path_id != path.id) continue;
+      const auto k = static_cast<std::size_t>(s.origin.record_index);
+      const db::Record& before = records.at(k);
+      const db::Record& after = records.at(k + 1);
+      const FeatureVector f = feature_vector(state_features(point_state(before), after.L, dataset.constants));
+      for (std::size_t j = 0; j < kFeatureCount; ++j) EXPECT_DOUBLE_EQ(s.features[j], f[j]);
+      // The answer of an interval integrates its record into the next (out-of-plane shears aside).
+      const PointState next = advance(point_state(before), after.L, after.time - before.time, s.answer, dataset.constants);
+      const dem::Mat3 target = db::from_stress6(after.stress);
+      for (const auto& [r, c] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 1}})
+        EXPECT_NEAR(next.stress(r, c), target(r, c), 1e-9 * target.norm()) << "path " << path.id << " record " << k;
+      EXPECT_NEAR(next.solid_fraction, after.solid_fraction, 1e-12);
+      EXPECT_NEAR(next.coordination, after.coordination, 1e-9);
+      ++checked;
+    }
+  }
+  EXPECT_EQ(dataset.samples.size(), expected);
+  EXPECT_EQ(checked, expected);
+  EXPECT_GT(expected, 50u);
+}
+
+TEST(SurrogateReindex, ALibraryWithoutATemplateIsRefusedByName) {
+  const test::TempDir dir("grainbank-surrogate-empty");
+  const app::CellInput input = app::load_cell_input(dir.write("cell.json", sampler::test::kCell));
+  db::Library library = db::Library::create(dir.path() / "LIB", input.material);
+  try {
+    reindex(library);
+    FAIL() << "an empty library re-indexed";
+  } catch (const db::StoreError& e) {
+    EXPECT_NE(std::string(e.what()).find("LIB"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("no template"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace grainbank::surrogate
