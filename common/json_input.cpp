@@ -1,4 +1,4 @@
-#include "json_input.hpp"
+#include "common/json_input.hpp"
 
 #include <cmath>
 #include <fstream>

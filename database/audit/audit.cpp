@@ -1,4 +1,4 @@
-#include "audit/audit.hpp"
+#include "database/audit/audit.hpp"
 
 #include <stdexcept>
 

@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "audit/audit_sample.hpp"
-#include "audit/error_statistics.hpp"
-#include "audit/leave_one_out.hpp"
-#include "audit/replay_check.hpp"
+#include "database/audit/audit_sample.hpp"
+#include "database/audit/error_statistics.hpp"
+#include "database/audit/leave_one_out.hpp"
+#include "database/audit/replay_check.hpp"
 
 namespace grainbank::audit {
 

@@ -1,4 +1,4 @@
-#include "audit/audit_report.hpp"
+#include "database/audit/audit_report.hpp"
 
 #include <cmath>
 

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <ostream>
 
-#include "audit/audit.hpp"
+#include "database/audit/audit.hpp"
 
 namespace grainbank::audit {
 

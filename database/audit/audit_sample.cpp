@@ -1,4 +1,4 @@
-#include "audit_sample.hpp"
+#include "database/audit/audit_sample.hpp"
 
 #include <algorithm>
 #include <random>

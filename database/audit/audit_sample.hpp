@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "lookup/lookup_types.hpp"
-#include "store/catalogue.hpp"
+#include "database/lookup/lookup_types.hpp"
+#include "database/store/catalogue.hpp"
 
 namespace grainbank::audit {
 

@@ -1,4 +1,4 @@
-#include "error_statistics.hpp"
+#include "database/audit/error_statistics.hpp"
 
 #include <algorithm>
 #include <cmath>

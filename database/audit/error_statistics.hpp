@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "store/record.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::audit {
 

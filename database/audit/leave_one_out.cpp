@@ -1,4 +1,4 @@
-#include "leave_one_out.hpp"
+#include "database/audit/leave_one_out.hpp"
 
 #include <memory>
 

@@ -8,7 +8,7 @@
 #include <map>
 #include <vector>
 
-#include "lookup/lookup_index.hpp"
+#include "database/lookup/lookup_index.hpp"
 
 namespace grainbank::audit {
 

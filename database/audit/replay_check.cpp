@@ -1,11 +1,11 @@
-#include "replay_check.hpp"
+#include "database/audit/replay_check.hpp"
 
 #include <algorithm>
 #include <optional>
 
-#include "path_driver.hpp"
-#include "path_plan.hpp"
-#include "stored_path.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
+#include "dem_sampler/sampler/stored_path.hpp"
 
 namespace grainbank::audit {
 namespace {

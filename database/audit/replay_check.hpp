@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "lookup/lookup_types.hpp"
-#include "store/library.hpp"
+#include "database/lookup/lookup_types.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::audit {
 

@@ -1,4 +1,4 @@
-#include "celldb/audit_command.hpp"
+#include "database/celldb/audit_command.hpp"
 
 #include <spawn.h>
 #include <sys/wait.h>
@@ -8,8 +8,8 @@
 #include <iomanip>
 #include <vector>
 
-#include "audit/audit_report.hpp"
-#include "store/audit_log.hpp"
+#include "database/audit/audit_report.hpp"
+#include "database/store/audit_log.hpp"
 
 extern char** environ;
 

@@ -8,7 +8,7 @@
 #include <filesystem>
 #include <ostream>
 
-#include "audit/audit.hpp"
+#include "database/audit/audit.hpp"
 
 namespace grainbank::celldb {
 

@@ -1,4 +1,4 @@
-#include "bench_command.hpp"
+#include "database/celldb/bench_command.hpp"
 
 #include <chrono>
 #include <cmath>
@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cell/matrix_functions.hpp"
-#include "cell/preparation.hpp"
-#include "lookup/lookup_index.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "database/store/library.hpp"
 #include "common/temporary_directory.hpp"
 
 namespace grainbank::celldb {

@@ -1,9 +1,9 @@
-#include "export_command.hpp"
+#include "database/celldb/export_command.hpp"
 
 #include <cstdio>
 #include <fstream>
 
-#include "store/library.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::celldb {
 namespace {

@@ -1,9 +1,9 @@
-#include "info_command.hpp"
+#include "database/celldb/info_command.hpp"
 
 #include <iomanip>
 
-#include "lookup/key_coverage.hpp"
-#include "store/library.hpp"
+#include "database/lookup/key_coverage.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::celldb {
 namespace {

@@ -4,13 +4,13 @@
 #include <CLI/CLI.hpp>
 #include <iostream>
 
-#include "celldb/audit_command.hpp"
-#include "celldb/bench_command.hpp"
-#include "celldb/export_command.hpp"
-#include "celldb/info_command.hpp"
-#include "celldb/merge_command.hpp"
-#include "celldb/query_command.hpp"
-#include "celldb/verify_command.hpp"
+#include "database/celldb/audit_command.hpp"
+#include "database/celldb/bench_command.hpp"
+#include "database/celldb/export_command.hpp"
+#include "database/celldb/info_command.hpp"
+#include "database/celldb/merge_command.hpp"
+#include "database/celldb/query_command.hpp"
+#include "database/celldb/verify_command.hpp"
 
 int main(int argc, char** argv) {
   using namespace grainbank::celldb;

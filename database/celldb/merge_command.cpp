@@ -1,6 +1,6 @@
-#include "merge_command.hpp"
+#include "database/celldb/merge_command.hpp"
 
-#include "store/merge.hpp"
+#include "database/store/merge.hpp"
 
 namespace grainbank::celldb {
 

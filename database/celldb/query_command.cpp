@@ -1,11 +1,11 @@
-#include "query_command.hpp"
+#include "database/celldb/query_command.hpp"
 
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "lookup/lookup_index.hpp"
-#include "store/library.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::celldb {
 namespace {

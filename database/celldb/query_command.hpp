@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "lookup/lookup_types.hpp"
+#include "database/lookup/lookup_types.hpp"
 
 namespace grainbank::celldb {
 

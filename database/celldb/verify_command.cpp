@@ -1,8 +1,8 @@
-#include "verify_command.hpp"
+#include "database/celldb/verify_command.hpp"
 
 #include <nlohmann/json.hpp>
 
-#include "store/verify.hpp"
+#include "database/store/verify.hpp"
 
 namespace grainbank::celldb {
 namespace {

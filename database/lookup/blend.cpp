@@ -1,4 +1,4 @@
-#include "blend.hpp"
+#include "database/lookup/blend.hpp"
 
 #include <cmath>
 #include <vector>

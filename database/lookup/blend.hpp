@@ -10,7 +10,7 @@
 #pragma once
 #include <span>
 
-#include "lookup_types.hpp"
+#include "database/lookup/lookup_types.hpp"
 
 namespace grainbank::lookup {
 

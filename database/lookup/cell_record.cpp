@@ -1,6 +1,6 @@
-#include "lookup/cell_record.hpp"
+#include "database/lookup/cell_record.hpp"
 
-#include "lookup/state_key.hpp"
+#include "database/lookup/state_key.hpp"
 
 namespace grainbank::lookup {
 

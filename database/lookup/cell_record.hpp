@@ -4,9 +4,9 @@
 // Promise: the one place a record is built from a cell. The sampler's paths and an MPM run's live
 // cells (enrichment) both store what this returns, so a cell driven by either gives the same record.
 #pragma once
-#include "cell/dem_cell.hpp"
-#include "store/key_definition.hpp"
-#include "store/record.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "database/store/key_definition.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::lookup {
 

@@ -1,4 +1,4 @@
-#include "key_block.hpp"
+#include "database/lookup/key_block.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -20,8 +20,8 @@
 
 #include <nanoflann.hpp>
 
-#include "lookup_types.hpp"
-#include "store/record.hpp"
+#include "database/lookup/lookup_types.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::lookup {
 

@@ -1,10 +1,10 @@
-#include "key_coverage.hpp"
+#include "database/lookup/key_coverage.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <set>
 
-#include "state_key.hpp"
+#include "database/lookup/state_key.hpp"
 
 namespace grainbank::lookup {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "store/library.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::lookup {
 

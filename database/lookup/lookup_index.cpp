@@ -1,13 +1,13 @@
-#include "lookup_index.hpp"
+#include "database/lookup/lookup_index.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "blend.hpp"
-#include "key_block.hpp"
-#include "state_key.hpp"
-#include "store/library.hpp"
+#include "database/lookup/blend.hpp"
+#include "database/lookup/key_block.hpp"
+#include "database/lookup/state_key.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::lookup {
 

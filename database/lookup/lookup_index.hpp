@@ -27,9 +27,9 @@
 #include <set>
 #include <vector>
 
-#include "lookup_types.hpp"
-#include "store/key_definition.hpp"
-#include "store/record.hpp"
+#include "database/lookup/lookup_types.hpp"
+#include "database/store/key_definition.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::db {
 class Library;

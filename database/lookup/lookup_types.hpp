@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <limits>
 
-#include "cell/types.hpp"
-#include "store/record.hpp"
+#include "dem_sampler/cell/types.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::lookup {
 

@@ -1,4 +1,4 @@
-#include "state_key.hpp"
+#include "database/lookup/state_key.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <cmath>

@@ -8,9 +8,9 @@
 // rigid rotation Q (F → Q F, D → Q D Qᵀ) leaves the key unchanged; the stress that belongs to the
 // key is the material-frame stress σ̂ = Rᵀ σ R, and R σ̂ Rᵀ turns it back.
 #pragma once
-#include "cell/types.hpp"
-#include "store/key_definition.hpp"
-#include "store/record.hpp"
+#include "dem_sampler/cell/types.hpp"
+#include "database/store/key_definition.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::lookup {
 

@@ -1,4 +1,4 @@
-#include "audit_log.hpp"
+#include "database/store/audit_log.hpp"
 
 namespace grainbank::db {
 

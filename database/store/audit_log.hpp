@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "catalogue.hpp"
+#include "database/store/catalogue.hpp"
 
 namespace grainbank::db {
 

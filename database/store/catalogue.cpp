@@ -1,8 +1,8 @@
-#include "catalogue.hpp"
+#include "database/store/catalogue.hpp"
 
 #include <ctime>
 
-#include "material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 namespace grainbank::db {
 namespace {

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sqlite_handle.hpp"
+#include "database/store/sqlite_handle.hpp"
 
 namespace grainbank::db {
 

@@ -1,4 +1,4 @@
-#include "cell_state_io.hpp"
+#include "database/store/cell_state_io.hpp"
 
 #include <string>
 

@@ -2,8 +2,8 @@
 // stored state continues bit-for-bit like the original. Layout (see SCHEMA.md): 3×3 matrices and
 // per-sphere / per-pair arrays as datasets, scalars as attributes of the group.
 #pragma once
-#include "cell/cell_state.hpp"
-#include "hdf5_handle.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::db {
 

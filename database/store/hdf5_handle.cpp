@@ -1,4 +1,4 @@
-#include "hdf5_handle.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 #include <utility>
 

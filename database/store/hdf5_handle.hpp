@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "error.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::db::h5 {
 

@@ -1,4 +1,4 @@
-#include "key_definition.hpp"
+#include "database/store/key_definition.hpp"
 
 #include <stdexcept>
 

@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "record.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::db {
 

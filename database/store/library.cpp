@@ -1,4 +1,4 @@
-#include "library.hpp"
+#include "database/store/library.hpp"
 
 #include <unistd.h>
 
@@ -8,7 +8,7 @@
 #include <thread>
 #include <utility>
 
-#include "material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 namespace grainbank::db {
 namespace {

@@ -14,10 +14,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "catalogue.hpp"
-#include "cell/dem_cell.hpp"
-#include "key_definition.hpp"
-#include "shard.hpp"
+#include "database/store/catalogue.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "database/store/key_definition.hpp"
+#include "database/store/shard.hpp"
 
 namespace grainbank::db {
 

@@ -1,4 +1,4 @@
-#include "material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 #include <bit>
 #include <cstdint>

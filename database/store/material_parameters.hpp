@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cell/material.hpp"
+#include "dem_sampler/cell/material.hpp"
 
 namespace grainbank::db {
 

@@ -1,11 +1,11 @@
-#include "merge.hpp"
+#include "database/store/merge.hpp"
 
 #include <map>
 #include <optional>
 #include <set>
 #include <tuple>
 
-#include "material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 namespace grainbank::db {
 namespace {

@@ -18,7 +18,7 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "library.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::db {
 

@@ -1,6 +1,6 @@
-#include "path_queue.hpp"
+#include "database/store/path_queue.hpp"
 
-#include "material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 namespace grainbank::db {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "catalogue.hpp"
+#include "database/store/catalogue.hpp"
 
 namespace grainbank::db {
 

@@ -1,4 +1,4 @@
-#include "record.hpp"
+#include "database/store/record.hpp"
 
 #include <cmath>
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cell/types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::db {
 

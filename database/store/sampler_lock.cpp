@@ -1,4 +1,4 @@
-#include "sampler_lock.hpp"
+#include "database/store/sampler_lock.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -8,7 +8,7 @@
 #include <cstring>
 #include <string>
 
-#include "error.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::db {
 

@@ -1,4 +1,4 @@
-#include "shard.hpp"
+#include "database/store/shard.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

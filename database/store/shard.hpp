@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
-#include "cell_state_io.hpp"
-#include "hdf5_handle.hpp"
-#include "record.hpp"
+#include "database/store/cell_state_io.hpp"
+#include "database/store/hdf5_handle.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::db {
 

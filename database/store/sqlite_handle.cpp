@@ -1,4 +1,4 @@
-#include "sqlite_handle.hpp"
+#include "database/store/sqlite_handle.hpp"
 
 #include <utility>
 

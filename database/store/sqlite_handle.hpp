@@ -8,7 +8,7 @@
 #include <optional>
 #include <string>
 
-#include "error.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::db {
 

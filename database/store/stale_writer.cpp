@@ -1,6 +1,6 @@
-#include "stale_writer.hpp"
+#include "database/store/stale_writer.hpp"
 
-#include "hdf5_handle.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::db {
 

@@ -5,7 +5,7 @@
 // by a full disk may also leave its shard shorter than its superblock says: the file is extended
 // back (h5::clear_stale_writer_state).
 #pragma once
-#include "library.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::db {
 

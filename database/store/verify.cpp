@@ -1,10 +1,10 @@
-#include "verify.hpp"
+#include "database/store/verify.hpp"
 
 #include <algorithm>
 #include <map>
 #include <set>
 
-#include "hdf5_handle.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::db {
 namespace {

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "library.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::db {
 

@@ -1,4 +1,4 @@
-#include "length_scales.hpp"
+#include "database/surrogate/length_scales.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "surrogate_index.hpp"
+#include "database/surrogate/surrogate_index.hpp"
 
 namespace grainbank::surrogate {
 

@@ -1,4 +1,4 @@
-#include "local_fit.hpp"
+#include "database/surrogate/local_fit.hpp"
 
 #include <cmath>
 #include <limits>

@@ -18,8 +18,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "rate_answer.hpp"
-#include "state_features.hpp"
+#include "database/surrogate/rate_answer.hpp"
+#include "database/surrogate/state_features.hpp"
 
 namespace grainbank::surrogate {
 

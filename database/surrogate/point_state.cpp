@@ -1,4 +1,4 @@
-#include "point_state.hpp"
+#include "database/surrogate/point_state.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -2,7 +2,7 @@
 // point carries and integrates itself, and the constants that make that state dimensionless.
 // Stress is tension-positive [Pa]; p = −tr σ / 3 is positive in compression.
 #pragma once
-#include "cell/types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::surrogate {
 

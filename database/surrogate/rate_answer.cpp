@@ -1,11 +1,11 @@
-#include "rate_answer.hpp"
+#include "database/surrogate/rate_answer.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
-#include "cell/matrix_functions.hpp"
-#include "state_features.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
+#include "database/surrogate/state_features.hpp"
 
 namespace grainbank::surrogate {
 

@@ -20,7 +20,7 @@
 #include <array>
 #include <cstddef>
 
-#include "point_state.hpp"
+#include "database/surrogate/point_state.hpp"
 
 namespace grainbank::surrogate {
 

@@ -1,7 +1,7 @@
-#include "reindex.hpp"
+#include "database/surrogate/reindex.hpp"
 
-#include "store/error.hpp"
-#include "store/library.hpp"
+#include "database/store/error.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::surrogate {
 

@@ -16,8 +16,8 @@
 #pragma once
 #include <vector>
 
-#include "sample.hpp"
-#include "store/record.hpp"
+#include "database/surrogate/sample.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::db {
 class Library;

@@ -1,4 +1,4 @@
-#include "sample.hpp"
+#include "database/surrogate/sample.hpp"
 
 namespace grainbank::surrogate {
 

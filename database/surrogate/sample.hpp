@@ -3,8 +3,8 @@
 #pragma once
 #include <cstdint>
 
-#include "rate_answer.hpp"
-#include "state_features.hpp"
+#include "database/surrogate/rate_answer.hpp"
+#include "database/surrogate/state_features.hpp"
 
 namespace grainbank::surrogate {
 

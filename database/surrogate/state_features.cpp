@@ -1,4 +1,4 @@
-#include "state_features.hpp"
+#include "database/surrogate/state_features.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -28,7 +28,7 @@
 #include <cstddef>
 #include <optional>
 
-#include "point_state.hpp"
+#include "database/surrogate/point_state.hpp"
 
 namespace grainbank::surrogate {
 

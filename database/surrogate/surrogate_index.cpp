@@ -1,4 +1,4 @@
-#include "surrogate_index.hpp"
+#include "database/surrogate/surrogate_index.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -23,8 +23,8 @@
 #include <shared_mutex>
 #include <vector>
 
-#include "local_fit.hpp"
-#include "sample.hpp"
+#include "database/surrogate/local_fit.hpp"
+#include "database/surrogate/sample.hpp"
 
 namespace grainbank::surrogate {
 

@@ -1,4 +1,4 @@
-#include "surrogate_step.hpp"
+#include "database/surrogate/surrogate_step.hpp"
 
 namespace grainbank::surrogate {
 

@@ -7,7 +7,7 @@
 // A point at rest or in a pure spin (|D| = 0) only turns its stress by R = exp(W dt), with zero
 // error: the answers are rates per unit of stretching (relaxation at rest is not represented).
 #pragma once
-#include "surrogate_index.hpp"
+#include "database/surrogate/surrogate_index.hpp"
 
 namespace grainbank::surrogate {
 

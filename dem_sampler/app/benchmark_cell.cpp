@@ -1,10 +1,10 @@
-#include "benchmark_cell.hpp"
+#include "dem_sampler/app/benchmark_cell.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <numbers>
 
-#include "cell/preparation.hpp"
+#include "dem_sampler/cell/preparation.hpp"
 
 namespace grainbank::app {
 namespace {

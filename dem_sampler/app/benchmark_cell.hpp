@@ -6,7 +6,7 @@
 #include <functional>
 #include <string>
 
-#include "cell/dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 
 namespace grainbank::app {
 

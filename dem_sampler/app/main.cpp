@@ -3,11 +3,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 
-#include "benchmark_cell.hpp"
-#include "prepare_command.hpp"
-#include "run_command.hpp"
-#include "sample_command.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/app/benchmark_cell.hpp"
+#include "dem_sampler/app/prepare_command.hpp"
+#include "dem_sampler/app/run_command.hpp"
+#include "dem_sampler/app/sample_command.hpp"
+#include "database/store/library.hpp"
 
 int main(int argc, char** argv) {
   using namespace grainbank::app;

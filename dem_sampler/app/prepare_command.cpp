@@ -1,12 +1,12 @@
-#include "prepare_command.hpp"
+#include "dem_sampler/app/prepare_command.hpp"
 
 #include <iostream>
 
-#include "cell_input.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
 #include "common/json_input.hpp"
-#include "store/sampler_lock.hpp"
-#include "store/stale_writer.hpp"
-#include "template_builder.hpp"
+#include "database/store/sampler_lock.hpp"
+#include "database/store/stale_writer.hpp"
+#include "dem_sampler/sampler/template_builder.hpp"
 
 namespace grainbank::app {
 

@@ -1,4 +1,4 @@
-#include "record_table.hpp"
+#include "dem_sampler/app/record_table.hpp"
 
 #include <cmath>
 #include <iomanip>

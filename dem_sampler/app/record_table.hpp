@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "path_driver.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
 
 namespace grainbank::app {
 

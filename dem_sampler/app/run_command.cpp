@@ -1,15 +1,15 @@
-#include "run_command.hpp"
+#include "dem_sampler/app/run_command.hpp"
 
 #include <chrono>
 #include <fstream>
 #include <iostream>
 
-#include "cell/overlap_warning.hpp"
-#include "cell_input.hpp"
+#include "dem_sampler/cell/overlap_warning.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
 #include "common/json_input.hpp"
-#include "path_driver.hpp"
-#include "path_input.hpp"
-#include "record_table.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
+#include "dem_sampler/driver/path_input.hpp"
+#include "dem_sampler/app/record_table.hpp"
 
 namespace grainbank::app {
 namespace {

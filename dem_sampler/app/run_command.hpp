@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-#include "cell/dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 
 namespace grainbank::app {
 

@@ -1,4 +1,4 @@
-#include "sample_command.hpp"
+#include "dem_sampler/app/sample_command.hpp"
 
 #include <unistd.h>
 
@@ -8,16 +8,16 @@
 #include <memory>
 #include <thread>
 
-#include "paths_input.hpp"
-#include "sample_progress.hpp"
-#include "sampler.hpp"
-#include "test_stop_point.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
+#include "dem_sampler/app/sample_progress.hpp"
+#include "dem_sampler/sampler/sampler.hpp"
+#include "dem_sampler/app/test_stop_point.hpp"
 #include "common/stop_signals.hpp"
-#include "store/path_queue.hpp"
-#include "store/sampler_lock.hpp"
-#include "store/stale_writer.hpp"
+#include "database/store/path_queue.hpp"
+#include "database/store/sampler_lock.hpp"
+#include "database/store/stale_writer.hpp"
 #ifdef GRAINBANK_HAVE_MPI
-#include "mpi_work_source.hpp"
+#include "dem_sampler/sampler/mpi_work_source.hpp"
 #endif
 
 namespace grainbank::app {

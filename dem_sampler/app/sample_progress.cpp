@@ -1,4 +1,4 @@
-#include "sample_progress.hpp"
+#include "dem_sampler/app/sample_progress.hpp"
 
 #include <cstdio>
 #include <iostream>

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <string>
 
-#include "path_runner.hpp"
+#include "dem_sampler/sampler/path_runner.hpp"
 
 namespace grainbank::app {
 

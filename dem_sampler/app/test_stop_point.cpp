@@ -1,4 +1,4 @@
-#include "test_stop_point.hpp"
+#include "dem_sampler/app/test_stop_point.hpp"
 
 #include <csignal>
 #include <cstdlib>

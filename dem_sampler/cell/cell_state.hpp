@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::dem {
 

@@ -1,6 +1,6 @@
-#include "dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 
-#include "matrix_functions.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -18,12 +18,12 @@
 #include <cstdint>
 #include <vector>
 
-#include "cell_state.hpp"
-#include "interaction_law.hpp"
-#include "material.hpp"
-#include "periodic_cell.hpp"
-#include "substepping.hpp"
-#include "verlet_list.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
+#include "dem_sampler/cell/interaction_law.hpp"
+#include "dem_sampler/cell/material.hpp"
+#include "dem_sampler/cell/periodic_cell.hpp"
+#include "dem_sampler/cell/substepping.hpp"
+#include "dem_sampler/cell/verlet_list.hpp"
 
 namespace grainbank::dem {
 

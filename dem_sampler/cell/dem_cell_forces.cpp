@@ -1,7 +1,7 @@
 // The force loop: geometry of every Verlet pair, the interaction law of interaction_law.hpp, and the
 // Love-Weber sum of seed Eq. 2. Compiled once per set of effects, so an effect that is off costs no
 // branch here, and stress is summed only at the steps where it is asked for.
-#include "dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 
 namespace grainbank::dem {
 

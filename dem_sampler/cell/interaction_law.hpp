@@ -11,8 +11,8 @@
 #pragma once
 #include <cmath>
 
-#include "cell_state.hpp"
-#include "material.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
+#include "dem_sampler/cell/material.hpp"
 
 namespace grainbank::dem {
 

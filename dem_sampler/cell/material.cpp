@@ -1,4 +1,4 @@
-#include "material.hpp"
+#include "dem_sampler/cell/material.hpp"
 
 #include <cmath>
 #include <numbers>

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::dem {
 

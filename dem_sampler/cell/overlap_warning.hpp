@@ -7,7 +7,7 @@
 #include <sstream>
 #include <string>
 
-#include "dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 
 namespace grainbank::dem {
 

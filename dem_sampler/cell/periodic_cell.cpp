@@ -1,4 +1,4 @@
-#include "periodic_cell.hpp"
+#include "dem_sampler/cell/periodic_cell.hpp"
 
 #include <cmath>
 

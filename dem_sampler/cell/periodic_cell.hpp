@@ -3,7 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::dem {
 

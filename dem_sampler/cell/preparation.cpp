@@ -1,11 +1,11 @@
-#include "preparation.hpp"
+#include "dem_sampler/cell/preparation.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <sstream>
 #include <stdexcept>
 
-#include "random.hpp"
+#include "dem_sampler/cell/random.hpp"
 
 namespace grainbank::dem {
 namespace {

@@ -4,8 +4,8 @@
 #pragma once
 #include <cstdint>
 
-#include "material.hpp"
-#include "preparation.hpp"
+#include "dem_sampler/cell/material.hpp"
+#include "dem_sampler/cell/preparation.hpp"
 
 namespace grainbank::dem {
 

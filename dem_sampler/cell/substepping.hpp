@@ -6,7 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::dem {
 

@@ -1,10 +1,10 @@
-#include "verlet_list.hpp"
+#include "dem_sampler/cell/verlet_list.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "periodic_cell.hpp"
+#include "dem_sampler/cell/periodic_cell.hpp"
 
 namespace grainbank::dem {
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "cell_state.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
 
 namespace grainbank::dem {
 

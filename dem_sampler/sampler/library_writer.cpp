@@ -1,7 +1,7 @@
-#include "library_writer.hpp"
+#include "dem_sampler/sampler/library_writer.hpp"
 
-#include "store/path_queue.hpp"
-#include "stored_path.hpp"
+#include "database/store/path_queue.hpp"
+#include "dem_sampler/sampler/stored_path.hpp"
 
 namespace grainbank::sampler {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "path_plan.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::sampler {
 

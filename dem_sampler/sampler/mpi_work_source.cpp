@@ -1,4 +1,4 @@
-#include "mpi_work_source.hpp"
+#include "dem_sampler/sampler/mpi_work_source.hpp"
 
 #include <mpi.h>
 

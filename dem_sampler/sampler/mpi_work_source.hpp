@@ -8,7 +8,7 @@
 #include <mutex>
 #include <thread>
 
-#include "sampler.hpp"
+#include "dem_sampler/sampler/sampler.hpp"
 
 namespace grainbank::sampler {
 

@@ -1,10 +1,10 @@
-#include "path_generator.hpp"
+#include "dem_sampler/sampler/path_generator.hpp"
 
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
 
-#include "halton.hpp"
+#include "dem_sampler/sampler/halton.hpp"
 
 namespace grainbank::sampler {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "path_plan.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
 
 namespace grainbank::sampler {
 

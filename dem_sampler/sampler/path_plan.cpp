@@ -1,6 +1,6 @@
-#include "path_plan.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
 
-#include "path_driver.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
 
 namespace grainbank::sampler {
 

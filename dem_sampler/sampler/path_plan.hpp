@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/json_input.hpp"
-#include "path_input.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 
 namespace grainbank::sampler {
 

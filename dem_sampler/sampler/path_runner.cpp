@@ -1,11 +1,11 @@
-#include "path_runner.hpp"
+#include "dem_sampler/sampler/path_runner.hpp"
 
 #include <chrono>
 #include <cmath>
 #include <sstream>
 
-#include "app/path_driver.hpp"
-#include "lookup/cell_record.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
+#include "database/lookup/cell_record.hpp"
 
 namespace grainbank::sampler {
 namespace {

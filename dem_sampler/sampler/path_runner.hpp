@@ -12,7 +12,7 @@
 #include <functional>
 #include <string>
 
-#include "library_writer.hpp"
+#include "dem_sampler/sampler/library_writer.hpp"
 
 namespace grainbank::sampler {
 

@@ -1,6 +1,6 @@
-#include "paths_input.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
 
-#include "path_generator.hpp"
+#include "dem_sampler/sampler/path_generator.hpp"
 
 namespace grainbank::sampler {
 namespace {

@@ -6,7 +6,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "path_plan.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
 
 namespace grainbank::sampler {
 

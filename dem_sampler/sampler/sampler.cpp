@@ -1,4 +1,4 @@
-#include "sampler.hpp"
+#include "dem_sampler/sampler/sampler.hpp"
 
 #include <chrono>
 #include <exception>

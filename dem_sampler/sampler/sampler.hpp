@@ -7,8 +7,8 @@
 #include <atomic>
 #include <functional>
 
-#include "path_runner.hpp"
-#include "work_source.hpp"
+#include "dem_sampler/sampler/path_runner.hpp"
+#include "dem_sampler/sampler/work_source.hpp"
 
 namespace grainbank::sampler {
 

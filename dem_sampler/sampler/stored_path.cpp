@@ -1,9 +1,9 @@
-#include "stored_path.hpp"
+#include "dem_sampler/sampler/stored_path.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include "common/json_input.hpp"
-#include "store/error.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::sampler {
 

@@ -3,8 +3,8 @@
 #pragma once
 #include <optional>
 
-#include "path_plan.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::sampler {
 

@@ -1,11 +1,11 @@
-#include "template_builder.hpp"
+#include "dem_sampler/sampler/template_builder.hpp"
 
 #include <algorithm>
 #include <fstream>
 #include <numeric>
 #include <sstream>
 
-#include "store/material_parameters.hpp"
+#include "database/store/material_parameters.hpp"
 
 namespace grainbank::sampler {
 namespace {

@@ -7,8 +7,8 @@
 #include <string>
 #include <nlohmann/json.hpp>
 
-#include "cell_input.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::sampler {
 

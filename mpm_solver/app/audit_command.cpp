@@ -1,4 +1,4 @@
-#include "app/audit_command.hpp"
+#include "mpm_solver/app/audit_command.hpp"
 
 #include <algorithm>
 #include <fstream>
@@ -6,13 +6,13 @@
 #include <set>
 #include <string>
 
-#include "audit/audit_report.hpp"
-#include "audit/run_audit.hpp"
+#include "database/audit/audit_report.hpp"
+#include "mpm_solver/audit/run_audit.hpp"
 #include "common/json_input.hpp"
-#include "io/scene_input.hpp"
-#include "app/scene_overrides.hpp"
-#include "store/audit_log.hpp"
-#include "store/library.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "mpm_solver/app/scene_overrides.hpp"
+#include "database/store/audit_log.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::mpm::app {
 

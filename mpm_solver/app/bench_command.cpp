@@ -1,4 +1,4 @@
-#include "app/bench_command.hpp"
+#include "mpm_solver/app/bench_command.hpp"
 
 #include <omp.h>
 
@@ -6,11 +6,11 @@
 #include <cmath>
 #include <random>
 
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "laws/elastic_law.hpp"
-#include "dem_laws/live_dem_law.hpp"
-#include "core/seeding.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/core/seeding.hpp"
 
 namespace grainbank::mpm::app {
 

@@ -1,6 +1,6 @@
-#include "app/laws_command.hpp"
+#include "mpm_solver/app/laws_command.hpp"
 
-#include "laws/law_registry.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm::app {
 

@@ -12,14 +12,14 @@
 #include <iostream>
 #include <string>
 
-#include "app/audit_command.hpp"
-#include "app/bench_command.hpp"
-#include "app/laws_command.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/app/audit_command.hpp"
+#include "mpm_solver/app/bench_command.hpp"
+#include "mpm_solver/app/laws_command.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 #include "common/json_input.hpp"
 #include "common/stop_signals.hpp"
-#include "run_command.hpp"
-#include "scene_overrides.hpp"
+#include "mpm_solver/app/run_command.hpp"
+#include "mpm_solver/app/scene_overrides.hpp"
 
 using namespace grainbank::mpm::app;
 

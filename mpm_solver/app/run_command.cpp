@@ -1,4 +1,4 @@
-#include "run_command.hpp"
+#include "mpm_solver/app/run_command.hpp"
 
 #include <omp.h>
 
@@ -9,14 +9,14 @@
 #include <limits>
 #include <optional>
 
-#include "io/audit_trail.hpp"
-#include "io/coupling_report.hpp"
-#include "io/restart.hpp"
-#include "io/scene_input.hpp"
+#include "mpm_solver/io/audit_trail.hpp"
+#include "mpm_solver/io/coupling_report.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "mpm_solver/io/scene_input.hpp"
 #include "common/json_input.hpp"
-#include "io/series_csv.hpp"
-#include "io/tracked_cells.hpp"
-#include "io/vtu_writer.hpp"
+#include "mpm_solver/io/series_csv.hpp"
+#include "mpm_solver/io/tracked_cells.hpp"
+#include "mpm_solver/io/vtu_writer.hpp"
 
 namespace grainbank::mpm::app {
 

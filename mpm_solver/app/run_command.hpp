@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/scene_overrides.hpp"
+#include "mpm_solver/app/scene_overrides.hpp"
 
 namespace grainbank::mpm::app {
 

@@ -1,4 +1,4 @@
-#include "app/scene_overrides.hpp"
+#include "mpm_solver/app/scene_overrides.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "common/json_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm::app {
 

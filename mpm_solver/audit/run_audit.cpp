@@ -1,10 +1,10 @@
-#include "audit/run_audit.hpp"
+#include "mpm_solver/audit/run_audit.hpp"
 
 #include <exception>
 #include <stdexcept>
 #include <string>
 
-#include "store/record.hpp"
+#include "database/store/record.hpp"
 
 namespace grainbank::mpm::audit {
 

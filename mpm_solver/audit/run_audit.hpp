@@ -15,9 +15,9 @@
 #include <functional>
 #include <vector>
 
-#include "audit/error_statistics.hpp"
-#include "core/constitutive_law.hpp"
-#include "io/audit_trail.hpp"
+#include "database/audit/error_statistics.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/io/audit_trail.hpp"
 
 namespace grainbank::mpm::audit {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstddef>
 
-#include "core/grid.hpp"
+#include "mpm_solver/core/grid.hpp"
 
 namespace grainbank::mpm {
 

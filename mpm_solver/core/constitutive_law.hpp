@@ -7,9 +7,9 @@
 #include <limits>
 #include <string>
 
-#include "core/kinematic_increment.hpp"
-#include "core/law_state_archive.hpp"
-#include "core/types.hpp"
+#include "mpm_solver/core/kinematic_increment.hpp"
+#include "mpm_solver/core/law_state_archive.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -5,8 +5,8 @@
 #pragma once
 #include <cstddef>
 
-#include "core/constitutive_law.hpp"
-#include "core/coupling_status.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/coupling_status.hpp"
 
 namespace grainbank::dem {
 class DemCell;

@@ -1,4 +1,4 @@
-#include "core/diagnostics.hpp"
+#include "mpm_solver/core/diagnostics.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "core/material_point.hpp"
+#include "mpm_solver/core/material_point.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "core/geometry.hpp"
+#include "mpm_solver/core/geometry.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -2,7 +2,7 @@
 #pragma once
 #include <vector>
 
-#include "core/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <optional>
 
-#include "core/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "core/grid.hpp"
+#include "mpm_solver/core/grid.hpp"
 
 #include <cmath>
 #include <stdexcept>

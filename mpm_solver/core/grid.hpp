@@ -7,7 +7,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "core/homogeneous_drive.hpp"
+#include "mpm_solver/core/homogeneous_drive.hpp"
 
 namespace grainbank::mpm {
 

@@ -3,8 +3,8 @@
 // L: an element test of a constitutive law through the full MPM step (e.g. one live-DEM point driven
 // along the same history as a stand-alone `dem_sampler run`).
 #pragma once
-#include "core/grid.hpp"
-#include "core/types.hpp"
+#include "mpm_solver/core/grid.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

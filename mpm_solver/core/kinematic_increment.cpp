@@ -1,9 +1,9 @@
-#include "core/kinematic_increment.hpp"
+#include "mpm_solver/core/kinematic_increment.hpp"
 
 #include <cmath>
 #include <stdexcept>
 
-#include "cell/matrix_functions.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
 
 namespace grainbank::mpm {
 

@@ -4,8 +4,8 @@
 // its rate-dependent parts (the DEM cell's sub-steps, the rate in a lookup key, seed Eq. 4) and the
 // library it is compared with all see the same motion at the same pace.
 #pragma once
-#include "cell/types.hpp"
-#include "core/types.hpp"
+#include "dem_sampler/cell/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cell/cell_state.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
 
 namespace grainbank::dem {
 class DemCell;

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "core/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "core/obstacle.hpp"
+#include "mpm_solver/core/obstacle.hpp"
 
 #include <algorithm>
 #include <cmath>

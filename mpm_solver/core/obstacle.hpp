@@ -9,7 +9,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/geometry.hpp"
+#include "mpm_solver/core/geometry.hpp"
 
 namespace grainbank::mpm {
 

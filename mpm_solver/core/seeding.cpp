@@ -1,4 +1,4 @@
-#include "core/seeding.hpp"
+#include "mpm_solver/core/seeding.hpp"
 
 #include <algorithm>
 #include <cmath>

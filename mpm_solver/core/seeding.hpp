@@ -2,8 +2,8 @@
 // sub-cells, kept when inside the region. Each point gets the volume (h/n)² and, for obstacle
 // contact, the disk radius h/(2n).
 #pragma once
-#include "core/geometry.hpp"
-#include "core/solver.hpp"
+#include "mpm_solver/core/geometry.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm {
 

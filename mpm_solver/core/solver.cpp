@@ -1,4 +1,4 @@
-#include "core/solver.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 #include <algorithm>
 #include <chrono>
@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "core/parallel.hpp"
+#include "mpm_solver/core/parallel.hpp"
 
 namespace grainbank::mpm {
 

@@ -6,14 +6,14 @@
 #include <memory>
 #include <vector>
 
-#include "core/constitutive_law.hpp"
-#include "core/gravity.hpp"
-#include "core/grid.hpp"
-#include "core/homogeneous_drive.hpp"
-#include "core/material_point.hpp"
-#include "core/obstacle.hpp"
-#include "core/time_step.hpp"
-#include "core/transfers.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/gravity.hpp"
+#include "mpm_solver/core/grid.hpp"
+#include "mpm_solver/core/homogeneous_drive.hpp"
+#include "mpm_solver/core/material_point.hpp"
+#include "mpm_solver/core/obstacle.hpp"
+#include "mpm_solver/core/time_step.hpp"
+#include "mpm_solver/core/transfers.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,8 +1,8 @@
-#include "core/time_step.hpp"
+#include "mpm_solver/core/time_step.hpp"
 
 #include <cmath>
 
-#include "core/parallel.hpp"
+#include "mpm_solver/core/parallel.hpp"
 
 namespace grainbank::mpm {
 

@@ -6,10 +6,10 @@
 #include <memory>
 #include <vector>
 
-#include "core/constitutive_law.hpp"
-#include "core/grid.hpp"
-#include "core/material_point.hpp"
-#include "core/obstacle.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/grid.hpp"
+#include "mpm_solver/core/material_point.hpp"
+#include "mpm_solver/core/obstacle.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,6 +1,6 @@
-#include "core/transfers.hpp"
+#include "mpm_solver/core/transfers.hpp"
 
-#include "core/parallel.hpp"
+#include "mpm_solver/core/parallel.hpp"
 
 #include <omp.h>
 

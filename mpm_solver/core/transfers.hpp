@@ -5,8 +5,8 @@
 #include <cmath>
 #include <vector>
 
-#include "core/bspline.hpp"
-#include "core/material_point.hpp"
+#include "mpm_solver/core/bspline.hpp"
+#include "mpm_solver/core/material_point.hpp"
 
 namespace grainbank::mpm {
 

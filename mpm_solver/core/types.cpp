@@ -1,4 +1,4 @@
-#include "core/types.hpp"
+#include "mpm_solver/core/types.hpp"
 
 #include <cmath>
 

@@ -1,7 +1,7 @@
-#include "dem_laws/dem_material_input.hpp"
+#include "mpm_solver/dem_laws/dem_material_input.hpp"
 
-#include "app/cell_input.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::mpm {
 

@@ -5,10 +5,10 @@
 #include <filesystem>
 #include <string>
 
-#include "cell/dem_cell.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
 #include "common/json_input.hpp"
-#include "dem_laws/live_cell_model.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,9 +1,9 @@
-#include "dem_laws/enrichment.hpp"
+#include "mpm_solver/dem_laws/enrichment.hpp"
 
 #include <unistd.h>
 
-#include "lookup/cell_record.hpp"
-#include "store/path_queue.hpp"
+#include "database/lookup/cell_record.hpp"
+#include "database/store/path_queue.hpp"
 
 namespace grainbank::mpm {
 

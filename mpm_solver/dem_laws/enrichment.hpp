@@ -23,8 +23,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "dem_laws/library_link.hpp"
-#include "store/sampler_lock.hpp"
+#include "mpm_solver/dem_laws/library_link.hpp"
+#include "database/store/sampler_lock.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "dem_laws/library_law.hpp"
+#include "mpm_solver/dem_laws/library_law.hpp"
 
 #include <chrono>
 #include <cstdio>

@@ -21,12 +21,12 @@
 #include <optional>
 #include <vector>
 
-#include "core/constitutive_law.hpp"
-#include "core/dem_backed_law.hpp"
-#include "dem_laws/enrichment.hpp"
-#include "dem_laws/library_link.hpp"
-#include "dem_laws/live_cell_model.hpp"
-#include "dem_laws/warm_start.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/dem_laws/enrichment.hpp"
+#include "mpm_solver/dem_laws/library_link.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "mpm_solver/dem_laws/warm_start.hpp"
 
 namespace grainbank::mpm {
 

@@ -3,11 +3,11 @@
 // answered from; with "cell", the library must have been built for that cell's material.
 #include <optional>
 
-#include "app/cell_input.hpp"
-#include "dem_laws/dem_material_input.hpp"
-#include "dem_laws/library_law.hpp"
-#include "laws/law_registry.hpp"
-#include "store/error.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
+#include "mpm_solver/dem_laws/dem_material_input.hpp"
+#include "mpm_solver/dem_laws/library_law.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,8 +1,8 @@
-#include "dem_laws/library_link.hpp"
+#include "mpm_solver/dem_laws/library_link.hpp"
 
 #include <algorithm>
 
-#include "store/error.hpp"
+#include "database/store/error.hpp"
 
 namespace grainbank::mpm {
 

@@ -13,9 +13,9 @@
 #include <optional>
 #include <vector>
 
-#include "cell/dem_cell.hpp"
-#include "lookup/lookup_index.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "dem_laws/live_cell_model.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -3,9 +3,9 @@
 // the MPM, the CFL modulus of a cell and seed Eq. 4. One place, so a hybrid point that turns live
 // behaves exactly like a point of the live law.
 #pragma once
-#include "cell/dem_cell.hpp"
-#include "core/kinematic_increment.hpp"
-#include "core/types.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "mpm_solver/core/kinematic_increment.hpp"
+#include "mpm_solver/core/types.hpp"
 
 namespace grainbank::mpm {
 

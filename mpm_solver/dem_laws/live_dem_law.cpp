@@ -1,9 +1,9 @@
-#include "dem_laws/live_dem_law.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
 
 #include <string>
 
-#include "dem_laws/dem_material_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/dem_laws/dem_material_input.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 

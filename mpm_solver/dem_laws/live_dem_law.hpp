@@ -6,9 +6,9 @@
 #pragma once
 #include <vector>
 
-#include "core/constitutive_law.hpp"
-#include "core/dem_backed_law.hpp"
-#include "dem_laws/live_cell_model.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,8 +1,8 @@
-#include "dem_laws/warm_start.hpp"
+#include "mpm_solver/dem_laws/warm_start.hpp"
 
 #include <cmath>
 
-#include "cell/matrix_functions.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
 
 namespace grainbank::mpm {
 

@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "dem_laws/live_cell_model.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
 
 namespace grainbank::mpm {
 

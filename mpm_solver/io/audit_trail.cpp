@@ -1,12 +1,12 @@
-#include "io/audit_trail.hpp"
+#include "mpm_solver/io/audit_trail.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "core/dem_backed_law.hpp"
-#include "io/scene_input.hpp"
-#include "store/error.hpp"
-#include "store/hdf5_handle.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "database/store/error.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::mpm::io {
 

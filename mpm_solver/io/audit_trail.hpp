@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "core/coupling_status.hpp"
-#include "core/solver.hpp"
+#include "mpm_solver/core/coupling_status.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -1,4 +1,4 @@
-#include "io/coupling_report.hpp"
+#include "mpm_solver/io/coupling_report.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -4,8 +4,8 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 
-#include "core/dem_backed_law.hpp"
-#include "core/solver.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

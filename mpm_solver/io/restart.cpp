@@ -1,11 +1,11 @@
-#include "io/restart.hpp"
+#include "mpm_solver/io/restart.hpp"
 
 #include <stdexcept>
 #include <string>
 
-#include "cell/dem_cell.hpp"
-#include "store/cell_state_io.hpp"
-#include "store/hdf5_handle.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "database/store/cell_state_io.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::mpm::io {
 

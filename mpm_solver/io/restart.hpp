@@ -10,7 +10,7 @@
 #include <cstddef>
 #include <filesystem>
 
-#include "core/solver.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -1,13 +1,13 @@
-#include "io/scene_input.hpp"
+#include "mpm_solver/io/scene_input.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <utility>
 
 #include "common/json_input.hpp"
-#include "core/seeding.hpp"
-#include "io/audit_trail.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/core/seeding.hpp"
+#include "mpm_solver/io/audit_trail.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm::io {
 

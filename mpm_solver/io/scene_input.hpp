@@ -10,7 +10,7 @@
 #include <string_view>
 #include <vector>
 
-#include "core/solver.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

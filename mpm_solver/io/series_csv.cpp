@@ -1,10 +1,10 @@
-#include "io/series_csv.hpp"
+#include "mpm_solver/io/series_csv.hpp"
 
 #include <algorithm>
 #include <stdexcept>
 
-#include "core/diagnostics.hpp"
-#include "io/coupling_report.hpp"
+#include "mpm_solver/core/diagnostics.hpp"
+#include "mpm_solver/io/coupling_report.hpp"
 
 namespace grainbank::mpm::io {
 

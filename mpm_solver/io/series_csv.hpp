@@ -6,7 +6,7 @@
 #include <fstream>
 #include <vector>
 
-#include "core/solver.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -1,11 +1,11 @@
-#include "io/tracked_cells.hpp"
+#include "mpm_solver/io/tracked_cells.hpp"
 
 #include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
-#include "core/dem_backed_law.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
 
 namespace grainbank::mpm::io {
 

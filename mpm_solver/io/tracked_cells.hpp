@@ -1,7 +1,7 @@
 // DEM cell states of tracked material points, written at every output step of a run:
 //   cells/point_<id>_<NNNNNN>.csv  the packing: cell matrix h (3 rows) and one `x, y, z, radius` line
 //                                  per sphere, the packing CSV format that dem_sampler reads
-//                                  (dem_sampler/app/packing_csv.hpp), so a cell can be re-run alone;
+//                                  (dem_sampler/driver/packing_csv.hpp), so a cell can be re-run alone;
 //   cells/point_<id>_<NNNNNN>.vtk  legacy VTK polydata for ParaView: sphere centres as vertices with
 //                                  a `radius` field (Glyph → Sphere, scale by radius) and intact bonds
 //                                  as lines (bond ends outside the cell are periodic images, radius 0).
@@ -13,8 +13,8 @@
 #include <filesystem>
 #include <vector>
 
-#include "cell/dem_cell.hpp"
-#include "core/solver.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -1,12 +1,12 @@
-#include "io/vtu_writer.hpp"
+#include "mpm_solver/io/vtu_writer.hpp"
 
 #include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 
-#include "core/dem_backed_law.hpp"
-#include "core/material_point.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/core/material_point.hpp"
 
 namespace grainbank::mpm::io {
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "core/solver.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
 

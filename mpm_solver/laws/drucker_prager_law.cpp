@@ -1,4 +1,4 @@
-#include "laws/drucker_prager_law.hpp"
+#include "mpm_solver/laws/drucker_prager_law.hpp"
 
 #include <cmath>
 #include <limits>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "common/json_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 

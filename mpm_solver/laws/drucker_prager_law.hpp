@@ -9,7 +9,7 @@
 // Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
 // radially onto the cone (zero dilatancy: plastic flow is purely deviatoric).
 #pragma once
-#include "laws/elastic_law.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,4 +1,4 @@
-#include "laws/elastic_law.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
 
 #include <cmath>
 #include <stdexcept>
@@ -7,7 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "common/json_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 

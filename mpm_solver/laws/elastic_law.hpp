@@ -5,7 +5,7 @@
 #pragma once
 #include <vector>
 
-#include "core/constitutive_law.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
 
 namespace grainbank::common {
 class JsonNode;

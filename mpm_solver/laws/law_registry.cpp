@@ -1,4 +1,4 @@
-#include "laws/law_registry.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 #include <algorithm>
 #include <map>

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "common/json_input.hpp"
-#include "core/constitutive_law.hpp"
+#include "mpm_solver/core/constitutive_law.hpp"
 
 namespace grainbank::mpm {
 

@@ -1,12 +1,12 @@
 // CELL.json: every error names the file, the JSON path and the expected value; a good file reads back.
-#include "cell_input.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
 
 #include <gtest/gtest.h>
 
 #include "common/json_input.hpp"
-#include "error_case.hpp"
-#include "json_patch.hpp"
-#include "temp_dir.hpp"
+#include "tests/app/error_case.hpp"
+#include "tests/app/json_patch.hpp"
+#include "tests/app/temp_dir.hpp"
 
 namespace grainbank {
 namespace {

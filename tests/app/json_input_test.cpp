@@ -3,8 +3,8 @@
 
 #include <gtest/gtest.h>
 
-#include "error_case.hpp"
-#include "temp_dir.hpp"
+#include "tests/app/error_case.hpp"
+#include "tests/app/temp_dir.hpp"
 
 namespace grainbank {
 namespace {

@@ -1,11 +1,11 @@
 // Packing files: every bad line is reported with the file name and the line number.
-#include "packing_csv.hpp"
+#include "dem_sampler/driver/packing_csv.hpp"
 
 #include <gtest/gtest.h>
 
 #include "common/json_input.hpp"
-#include "error_case.hpp"
-#include "temp_dir.hpp"
+#include "tests/app/error_case.hpp"
+#include "tests/app/temp_dir.hpp"
 
 namespace grainbank {
 namespace {

@@ -1,12 +1,12 @@
 // Driving a cell along a path: exact increments F_inc = exp(L Δt), one record per increment, and
 // segments that end exactly at their duration.
-#include "path_driver.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
 
 #include <gtest/gtest.h>
 
-#include "cell/matrix_functions.hpp"
-#include "cell/substepping.hpp"
-#include "record_table.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
+#include "dem_sampler/cell/substepping.hpp"
+#include "dem_sampler/app/record_table.hpp"
 
 namespace grainbank {
 namespace {

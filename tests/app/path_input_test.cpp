@@ -1,14 +1,14 @@
 // PATH.json: every error names the file, the JSON path and the expected value; a good file reads back.
-#include "path_input.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "common/json_input.hpp"
-#include "error_case.hpp"
-#include "json_patch.hpp"
-#include "temp_dir.hpp"
+#include "tests/app/error_case.hpp"
+#include "tests/app/json_patch.hpp"
+#include "tests/app/temp_dir.hpp"
 
 namespace grainbank {
 namespace {

@@ -9,8 +9,8 @@
 #include <string>
 #include <sys/wait.h>
 
-#include "record_table.hpp"
-#include "temp_dir.hpp"
+#include "dem_sampler/app/record_table.hpp"
+#include "tests/app/temp_dir.hpp"
 
 namespace grainbank {
 namespace {

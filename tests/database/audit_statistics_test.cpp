@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "audit/audit_sample.hpp"
-#include "audit/error_statistics.hpp"
+#include "database/audit/audit_sample.hpp"
+#include "database/audit/error_statistics.hpp"
 
 namespace grainbank::audit {
 namespace {

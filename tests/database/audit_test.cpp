@@ -8,14 +8,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "../sampler/sampler_test_util.hpp"
-#include "celldb/audit_command.hpp"
-#include "library_writer.hpp"
-#include "paths_input.hpp"
-#include "sampler.hpp"
-#include "store/audit_log.hpp"
-#include "store/path_queue.hpp"
-#include "template_builder.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
+#include "database/celldb/audit_command.hpp"
+#include "dem_sampler/sampler/library_writer.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
+#include "dem_sampler/sampler/sampler.hpp"
+#include "database/store/audit_log.hpp"
+#include "database/store/path_queue.hpp"
+#include "dem_sampler/sampler/template_builder.hpp"
 
 namespace grainbank::audit {
 namespace {

@@ -3,9 +3,9 @@
 
 #include <sstream>
 
-#include "celldb/info_command.hpp"
-#include "celldb/verify_command.hpp"
-#include "store_test_util.hpp"
+#include "database/celldb/info_command.hpp"
+#include "database/celldb/verify_command.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -4,10 +4,10 @@
 #include <regex>
 #include <sstream>
 
-#include "celldb/bench_command.hpp"
-#include "celldb/info_command.hpp"
-#include "celldb/query_command.hpp"
-#include "lookup_test_util.hpp"
+#include "database/celldb/bench_command.hpp"
+#include "database/celldb/info_command.hpp"
+#include "database/celldb/query_command.hpp"
+#include "tests/database/lookup_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -6,8 +6,8 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include "lookup/lookup_index.hpp"
-#include "lookup_test_util.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "tests/database/lookup_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

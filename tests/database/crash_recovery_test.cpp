@@ -11,8 +11,8 @@
 #include <functional>
 #include <iterator>
 
-#include "store/verify.hpp"
-#include "store_test_util.hpp"
+#include "database/store/verify.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -4,8 +4,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "celldb/export_command.hpp"
-#include "lookup_test_util.hpp"
+#include "database/celldb/export_command.hpp"
+#include "tests/database/lookup_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -5,8 +5,8 @@
 #include <random>
 #include <thread>
 
-#include "lookup/lookup_index.hpp"
-#include "lookup_test_util.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "tests/database/lookup_test_util.hpp"
 
 namespace grainbank::lookup {
 namespace {

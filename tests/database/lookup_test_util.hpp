@@ -4,9 +4,9 @@
 #include <cmath>
 #include <vector>
 
-#include "cell/matrix_functions.hpp"
-#include "lookup/state_key.hpp"
-#include "store_test_util.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
+#include "database/lookup/state_key.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 

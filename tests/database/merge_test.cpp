@@ -3,9 +3,9 @@
 
 #include <sstream>
 
-#include "celldb/merge_command.hpp"
-#include "lookup_test_util.hpp"
-#include "store/merge.hpp"
+#include "database/celldb/merge_command.hpp"
+#include "tests/database/lookup_test_util.hpp"
+#include "database/store/merge.hpp"
 
 namespace grainbank::db::test {
 namespace {

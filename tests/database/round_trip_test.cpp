@@ -1,8 +1,8 @@
 // Everything written to a library reads back exactly: material, template, path, records, snapshot.
 #include <gtest/gtest.h>
 
-#include "store/material_parameters.hpp"
-#include "store_test_util.hpp"
+#include "database/store/material_parameters.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

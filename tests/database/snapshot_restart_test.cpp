@@ -2,7 +2,7 @@
 // original: the warm start of the MPM fallback loses nothing.
 #include <gtest/gtest.h>
 
-#include "store_test_util.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "lookup_test_util.hpp"
+#include "tests/database/lookup_test_util.hpp"
 
 namespace grainbank::lookup {
 namespace {

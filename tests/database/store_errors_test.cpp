@@ -3,9 +3,9 @@
 
 #include <fstream>
 
-#include "store/hdf5_handle.hpp"
-#include "store/sqlite_handle.hpp"
-#include "store_test_util.hpp"
+#include "database/store/hdf5_handle.hpp"
+#include "database/store/sqlite_handle.hpp"
+#include "tests/database/store_test_util.hpp"
 
 namespace grainbank::db::test {
 namespace {

@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <string>
 
-#include "cell/dem_cell.hpp"
-#include "cell/preparation.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "database/store/library.hpp"
 #include "common/temporary_directory.hpp"
 
 namespace grainbank::db::test {

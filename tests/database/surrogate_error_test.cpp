@@ -17,8 +17,8 @@
 #include <cstdio>
 #include <numeric>
 
-#include "store/library.hpp"
-#include "surrogate_test_util.hpp"
+#include "database/store/library.hpp"
+#include "tests/database/surrogate_test_util.hpp"
 
 namespace grainbank::surrogate {
 namespace {

@@ -7,8 +7,8 @@
 #include <numbers>
 #include <random>
 
-#include "surrogate/rate_answer.hpp"
-#include "surrogate/state_features.hpp"
+#include "database/surrogate/rate_answer.hpp"
+#include "database/surrogate/state_features.hpp"
 
 namespace grainbank::surrogate {
 namespace {

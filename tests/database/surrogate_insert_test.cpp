@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <thread>
 
-#include "store/library.hpp"
-#include "surrogate/surrogate_step.hpp"
-#include "surrogate_test_util.hpp"
+#include "database/store/library.hpp"
+#include "database/surrogate/surrogate_step.hpp"
+#include "tests/database/surrogate_test_util.hpp"
 
 namespace grainbank::surrogate {
 namespace {

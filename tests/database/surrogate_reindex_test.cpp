@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "store/library.hpp"
-#include "surrogate_test_util.hpp"
+#include "database/store/library.hpp"
+#include "tests/database/surrogate_test_util.hpp"
 
 namespace grainbank::surrogate {
 namespace {

@@ -6,15 +6,15 @@
 #include <stdexcept>
 #include <string>
 
-#include "../sampler/sampler_test_util.hpp"
-#include "library_writer.hpp"
-#include "paths_input.hpp"
-#include "sampler.hpp"
-#include "store/path_queue.hpp"
-#include "surrogate/length_scales.hpp"
-#include "surrogate/reindex.hpp"
-#include "surrogate/surrogate_index.hpp"
-#include "template_builder.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
+#include "dem_sampler/sampler/library_writer.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
+#include "dem_sampler/sampler/sampler.hpp"
+#include "database/store/path_queue.hpp"
+#include "database/surrogate/length_scales.hpp"
+#include "database/surrogate/reindex.hpp"
+#include "database/surrogate/surrogate_index.hpp"
+#include "dem_sampler/sampler/template_builder.hpp"
 
 namespace grainbank::surrogate::test {
 

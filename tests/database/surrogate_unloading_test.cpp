@@ -14,10 +14,10 @@
 #include <cstdio>
 #include <functional>
 
-#include "lookup/lookup_index.hpp"
-#include "store/library.hpp"
-#include "surrogate/surrogate_step.hpp"
-#include "surrogate_test_util.hpp"
+#include "database/lookup/lookup_index.hpp"
+#include "database/store/library.hpp"
+#include "database/surrogate/surrogate_step.hpp"
+#include "tests/database/surrogate_test_util.hpp"
 
 namespace grainbank::surrogate {
 namespace {

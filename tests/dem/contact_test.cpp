@@ -2,7 +2,7 @@
 // restitution coefficient, energy, momentum and angular momentum; seed Eq. 3 time step; kinetic stress.
 #include <gtest/gtest.h>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

@@ -7,10 +7,10 @@
 #include <numbers>
 #include <vector>
 
-#include "cell/cell_state.hpp"
-#include "cell/dem_cell.hpp"
-#include "cell/material.hpp"
-#include "cell/preparation.hpp"
+#include "dem_sampler/cell/cell_state.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/cell/material.hpp"
+#include "dem_sampler/cell/preparation.hpp"
 
 namespace grainbank::dem::test {
 

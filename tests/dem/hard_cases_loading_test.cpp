@@ -7,8 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "cell/overlap_warning.hpp"
-#include "dem_test_util.hpp"
+#include "dem_sampler/cell/overlap_warning.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <unsupported/Eigen/MatrixFunctions>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

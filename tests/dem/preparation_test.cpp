@@ -2,7 +2,7 @@
 // cost nothing, and the sign of the shear stress of a prepared frictional cell.
 #include <gtest/gtest.h>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

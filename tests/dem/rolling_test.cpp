@@ -7,7 +7,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <random>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

@@ -2,7 +2,7 @@
 // tension-positive sign convention (compressed contacts: negative normal stress).
 #include <gtest/gtest.h>
 
-#include "dem_test_util.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
 namespace {

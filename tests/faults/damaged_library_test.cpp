@@ -11,7 +11,7 @@
 #include <cstring>
 #include <fstream>
 
-#include "library_fault_util.hpp"
+#include "tests/faults/library_fault_util.hpp"
 
 namespace grainbank::faults {
 namespace {

@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "cell_input.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
-#include "good_inputs.hpp"
-#include "io/scene_input.hpp"
-#include "path_input.hpp"
-#include "paths_input.hpp"
+#include "tests/faults/good_inputs.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "dem_sampler/driver/path_input.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
 
 namespace grainbank {
 namespace {

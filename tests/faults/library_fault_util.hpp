@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sampler_test_util.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
 
 namespace grainbank::faults {
 

@@ -12,9 +12,9 @@
 #include <csignal>
 #include <fstream>
 
-#include "sampler_test_util.hpp"
-#include "io/restart.hpp"
-#include "store/hdf5_handle.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "database/store/hdf5_handle.hpp"
 
 namespace grainbank::faults {
 namespace {

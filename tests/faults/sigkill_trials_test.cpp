@@ -15,7 +15,7 @@
 #include <regex>
 #include <thread>
 
-#include "library_fault_util.hpp"
+#include "tests/faults/library_fault_util.hpp"
 
 namespace grainbank::faults {
 namespace {

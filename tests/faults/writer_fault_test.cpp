@@ -9,7 +9,7 @@
 
 #include <csignal>
 
-#include "library_fault_util.hpp"
+#include "tests/faults/library_fault_util.hpp"
 
 namespace grainbank::faults {
 namespace {

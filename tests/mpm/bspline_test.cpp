@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "core/bspline.hpp"
+#include "mpm_solver/core/bspline.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "coupling_test_util.hpp"
+#include "tests/mpm/coupling_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -7,11 +7,11 @@
 #include <numbers>
 #include <vector>
 
-#include "cell/dem_cell.hpp"
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "dem_laws/live_cell_model.hpp"
-#include "dem/dem_test_util.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -3,7 +3,7 @@
 // the initial height of the point above the base (mass per area above it is conserved).
 #include <gtest/gtest.h>
 
-#include "mpm_test_util.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -8,13 +8,13 @@
 #include <memory>
 #include <string>
 
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "dem_laws/live_dem_law.hpp"
-#include "core/solver.hpp"
-#include "dem_laws/library_law.hpp"
-#include "io/coupling_report.hpp"
-#include "store/library.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/dem_laws/library_law.hpp"
+#include "mpm_solver/io/coupling_report.hpp"
+#include "database/store/library.hpp"
 
 namespace grainbank::mpm::testing {
 

@@ -6,9 +6,9 @@
 #include <fstream>
 
 #include "common/json_input.hpp"
-#include "coupling_test_util.hpp"
-#include "io/scene_input.hpp"
-#include "mpm_test_util.hpp"
+#include "tests/mpm/coupling_test_util.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <numbers>
 
-#include "mpm_test_util.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

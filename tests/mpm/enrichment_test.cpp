@@ -3,15 +3,15 @@
 // A library a sampler is writing is refused; the paths of a run that died are closed by the next.
 #include <gtest/gtest.h>
 
-#include "app/path_driver.hpp"
-#include "coupling_test_util.hpp"
-#include "store/error.hpp"
-#include "store/merge.hpp"
-#include "dem_laws/enrichment.hpp"
-#include "sampler/library_writer.hpp"
-#include "sampler/path_plan.hpp"
-#include "sampler/path_runner.hpp"
-#include "store/sampler_lock.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
+#include "tests/mpm/coupling_test_util.hpp"
+#include "database/store/error.hpp"
+#include "database/store/merge.hpp"
+#include "mpm_solver/dem_laws/enrichment.hpp"
+#include "dem_sampler/sampler/library_writer.hpp"
+#include "dem_sampler/sampler/path_plan.hpp"
+#include "dem_sampler/sampler/path_runner.hpp"
+#include "database/store/sampler_lock.hpp"
 
 namespace grainbank::mpm {
 namespace {

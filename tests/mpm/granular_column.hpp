@@ -7,9 +7,9 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "core/diagnostics.hpp"
-#include "laws/drucker_prager_law.hpp"
-#include "mpm_test_util.hpp"
+#include "mpm_solver/core/diagnostics.hpp"
+#include "mpm_solver/laws/drucker_prager_law.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm::testing {
 

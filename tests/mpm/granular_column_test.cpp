@@ -5,7 +5,7 @@
 
 #include <cstdio>
 
-#include "granular_column.hpp"
+#include "tests/mpm/granular_column.hpp"
 
 namespace grainbank::mpm {
 namespace {

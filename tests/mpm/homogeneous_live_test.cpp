@@ -10,14 +10,14 @@
 
 #include <cmath>
 
-#include "cell/matrix_functions.hpp"
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "dem_laws/live_dem_law.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
 #include "common/temporary_directory.hpp"
-#include "core/solver.hpp"
-#include "io/scene_input.hpp"
-#include "app/path_driver.hpp"
+#include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
 
 namespace grainbank::mpm {
 namespace {

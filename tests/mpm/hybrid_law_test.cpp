@@ -5,9 +5,9 @@
 
 #include <vector>
 
-#include "coupling_test_util.hpp"
-#include "io/restart.hpp"
-#include "io/tracked_cells.hpp"
+#include "tests/mpm/coupling_test_util.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "mpm_solver/io/tracked_cells.hpp"
 
 namespace grainbank::mpm {
 namespace {

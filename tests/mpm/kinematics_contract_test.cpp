@@ -8,12 +8,12 @@
 
 #include <Eigen/Geometry>
 
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "laws/elastic_law.hpp"
-#include "core/kinematic_increment.hpp"
-#include "dem_laws/live_dem_law.hpp"
-#include "core/solver.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
+#include "mpm_solver/core/kinematic_increment.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -9,12 +9,12 @@
 #include <string>
 #include <vector>
 
-#include "app/laws_command.hpp"
+#include "mpm_solver/app/laws_command.hpp"
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
-#include "io/restart.hpp"
-#include "io/scene_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 namespace {

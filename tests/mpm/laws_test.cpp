@@ -5,9 +5,9 @@
 #include <cmath>
 #include <numbers>
 
-#include "laws/drucker_prager_law.hpp"
-#include "laws/elastic_law.hpp"
-#include "core/gravity.hpp"
+#include "mpm_solver/laws/drucker_prager_law.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
+#include "mpm_solver/core/gravity.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -6,10 +6,10 @@
 
 #include <cmath>
 
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
-#include "dem_laws/live_dem_law.hpp"
-#include "mpm_test_util.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -6,9 +6,9 @@
 #include <numbers>
 #include <string>
 
-#include "laws/elastic_law.hpp"
-#include "core/seeding.hpp"
-#include "core/solver.hpp"
+#include "mpm_solver/laws/elastic_law.hpp"
+#include "mpm_solver/core/seeding.hpp"
+#include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::testing {
 

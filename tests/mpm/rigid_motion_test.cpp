@@ -5,8 +5,8 @@
 
 #include <random>
 
-#include "core/diagnostics.hpp"
-#include "mpm_test_util.hpp"
+#include "mpm_solver/core/diagnostics.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -9,14 +9,14 @@
 #include <fstream>
 #include <sstream>
 
-#include "audit_command.hpp"
+#include "mpm_solver/app/audit_command.hpp"
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
-#include "coupling_test_util.hpp"
-#include "io/audit_trail.hpp"
-#include "io/scene_input.hpp"
-#include "app/run_command.hpp"
-#include "store/audit_log.hpp"
+#include "tests/mpm/coupling_test_util.hpp"
+#include "mpm_solver/io/audit_trail.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "mpm_solver/app/run_command.hpp"
+#include "database/store/audit_log.hpp"
 
 namespace grainbank::mpm::app {
 namespace {

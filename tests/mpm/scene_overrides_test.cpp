@@ -9,7 +9,7 @@
 
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
-#include "app/scene_overrides.hpp"
+#include "mpm_solver/app/scene_overrides.hpp"
 
 namespace grainbank::mpm::app {
 namespace {

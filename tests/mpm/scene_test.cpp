@@ -8,8 +8,8 @@
 #include <fstream>
 
 #include "common/json_input.hpp"
-#include "io/scene_input.hpp"
-#include "laws/law_registry.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm {
 namespace {

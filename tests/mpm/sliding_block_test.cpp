@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "mpm_test_util.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "mpm_test_util.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

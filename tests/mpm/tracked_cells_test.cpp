@@ -6,13 +6,13 @@
 #include <fstream>
 #include <sstream>
 
-#include "cell/preparation.hpp"
-#include "cell/snow_preset.hpp"
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
 #include "common/temporary_directory.hpp"
-#include "dem_laws/live_dem_law.hpp"
-#include "io/tracked_cells.hpp"
-#include "mpm_test_util.hpp"
-#include "app/packing_csv.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/io/tracked_cells.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
+#include "dem_sampler/driver/packing_csv.hpp"
 
 namespace grainbank::mpm {
 namespace {

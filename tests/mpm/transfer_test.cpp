@@ -7,8 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/diagnostics.hpp"
-#include "mpm_test_util.hpp"
+#include "mpm_solver/core/diagnostics.hpp"
+#include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
 namespace {

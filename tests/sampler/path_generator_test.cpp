@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "halton.hpp"
-#include "path_generator.hpp"
+#include "dem_sampler/sampler/halton.hpp"
+#include "dem_sampler/sampler/path_generator.hpp"
 
 namespace grainbank::sampler {
 namespace {

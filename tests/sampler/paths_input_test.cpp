@@ -2,8 +2,8 @@
 // JSON path; the canonical spec reads back to the same plan.
 #include <gtest/gtest.h>
 
-#include "paths_input.hpp"
-#include "sampler_test_util.hpp"
+#include "dem_sampler/sampler/paths_input.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
 
 namespace grainbank::sampler {
 namespace {

@@ -6,7 +6,7 @@
 #include <csignal>
 #include <regex>
 
-#include "sampler_test_util.hpp"
+#include "tests/sampler/sampler_test_util.hpp"
 
 namespace grainbank::sampler::test {
 namespace {

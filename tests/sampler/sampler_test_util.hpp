@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "store/library.hpp"
+#include "database/store/library.hpp"
 #include "common/temporary_directory.hpp"
 
 namespace grainbank::sampler::test {

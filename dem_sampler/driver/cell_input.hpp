@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <optional>
 
-#include "cell/dem_cell.hpp"
-#include "cell/preparation.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/cell/preparation.hpp"
 
 namespace grainbank::app {
 

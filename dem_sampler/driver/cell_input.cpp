@@ -1,9 +1,9 @@
-#include "cell_input.hpp"
+#include "dem_sampler/driver/cell_input.hpp"
 
 #include <stdexcept>
 
 #include "common/json_input.hpp"
-#include "packing_csv.hpp"
+#include "dem_sampler/driver/packing_csv.hpp"
 
 namespace grainbank::app {
 namespace {

@@ -1,8 +1,8 @@
-#include "path_driver.hpp"
+#include "dem_sampler/driver/path_driver.hpp"
 
 #include <cmath>
 
-#include "cell/matrix_functions.hpp"
+#include "dem_sampler/cell/matrix_functions.hpp"
 
 namespace grainbank::app {
 namespace {

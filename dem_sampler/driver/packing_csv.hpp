@@ -11,7 +11,7 @@
 #include <filesystem>
 #include <vector>
 
-#include "cell/types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::app {
 

@@ -1,4 +1,4 @@
-#include "packing_csv.hpp"
+#include "dem_sampler/driver/packing_csv.hpp"
 
 #include <charconv>
 #include <cmath>

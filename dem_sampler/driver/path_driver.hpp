@@ -3,8 +3,8 @@
 #pragma once
 #include <functional>
 
-#include "cell/dem_cell.hpp"
-#include "path_input.hpp"
+#include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 
 namespace grainbank::app {
 

@@ -5,9 +5,9 @@
 #include <filesystem>
 #include <vector>
 
-#include "cell/substepping.hpp"
+#include "dem_sampler/cell/substepping.hpp"
 #include "common/json_input.hpp"
-#include "cell/types.hpp"
+#include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::app {
 

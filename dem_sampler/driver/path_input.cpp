@@ -1,4 +1,4 @@
-#include "path_input.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 
 #include "common/json_input.hpp"
 
