@@ -154,19 +154,22 @@ double median_tolerance(const std::vector<Mat2>& motion) {
   return errors[errors.size() / 2];
 }
 
+// Points return to the surrogate after two steps within the tolerance: the second point finds the
+// first one's live responses along its way and stays on the surrogate where the first went live.
 TEST(SurrogateLaw, LiveResponsesRaiseTheHitRateOfTheNextPoint) {
   const std::vector<Mat2> motion = off_library_motion();
-  auto law = surrogate_law(settings(median_tolerance(motion)));
+  auto law = surrogate_law(settings(median_tolerance(motion), 2));
   Driver first = new_point(*law), second = new_point(*law);
   for (const Mat2& L : motion) first(*law, L, kDt);
   const CouplingCounters a = law->point_counters(first.slot);
-  ASSERT_EQ(a.went_live, 1u);
-  EXPECT_GT(law->learned(), 0u);
+  ASSERT_GE(a.went_live, 1u);
+  EXPECT_EQ(law->learned(), a.live_updates);
   for (const Mat2& L : motion) second(*law, L, kDt);
   const CouplingCounters b = law->point_counters(second.slot);
   std::printf("hits along the motion: first point %llu, second point %llu of %zu steps\n",
               static_cast<unsigned long long>(a.hits), static_cast<unsigned long long>(b.hits), motion.size());
   EXPECT_GT(b.hits, a.hits);
+  EXPECT_LT(b.live_updates, a.live_updates);
 }
 
 // A solver holding one point of a surrogate law (restart files are written from a solver).
