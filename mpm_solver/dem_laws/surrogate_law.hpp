@@ -12,7 +12,8 @@
 //   (LiveCellModel). With tolerance 0 every step with stretching is live, so the law equals the
 //   live law to round-off.
 // - Every live step's response (the cell's state before and after, under the increment's L) enters
-//   the index at once as a new sample (issue 13, item 4), so later queries near it may hit.
+//   the index at once as a new sample (issue 13, item 4), so later queries near it may hit. Its
+//   origin is path −(slot + 1), record = the index of the increment in the point's history.
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live).
