@@ -144,9 +144,8 @@ void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, Poi
 namespace {
 
 // Per point of the law: slot, damage, live (0/1), steps inside the tolerance; live cells as
-// "cell_<slot>"; the replay histories as rows slot, F_inc (4), L (4), dt, in step order.
+// "cell_<slot>"; the replay histories as append_history writes them.
 constexpr std::size_t kPointColumns = 4;
-constexpr std::size_t kHistoryColumns = 10;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 
 }  // namespace
@@ -156,9 +155,7 @@ void LibraryLaw::save_state(LawStateWriter& out) const {
   for (std::size_t slot = 0; slot < points_.size(); ++slot) {
     const Point& p = points_[slot];
     rows.insert(rows.end(), {double(slot), p.damage, p.cell ? 1.0 : 0.0, double(p.steps_inside)});
-    for (const KinematicIncrement& r : p.history)
-      history.insert(history.end(), {double(slot), r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), r.L(0, 0), r.L(0, 1),
-                                     r.L(1, 0), r.L(1, 1), r.dt});
+    append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
   }
   out.write_table("library_points", rows, kPointColumns);
@@ -168,13 +165,7 @@ void LibraryLaw::save_state(LawStateWriter& out) const {
 void LibraryLaw::restore_state(LawStateReader& in) {
   for (Point& p : points_) p.history.clear();
   const std::vector<double> history = in.read_table("replay_history", kHistoryColumns);
-  for (std::size_t r = 0; r < history.size(); r += kHistoryColumns) {
-    KinematicIncrement increment;
-    increment.F << history[r + 1], history[r + 2], history[r + 3], history[r + 4];
-    increment.L << history[r + 5], history[r + 6], history[r + 7], history[r + 8];
-    increment.dt = history[r + 9];
-    points_.at(static_cast<std::size_t>(history[r])).history.push_back(increment);
-  }
+  for (const auto& [slot, increment] : history_rows(history)) points_.at(slot).history.push_back(increment);
   const std::vector<double> rows = in.read_table("library_points", kPointColumns);
   for (std::size_t r = 0; r < rows.size(); r += kPointColumns) {
     const auto slot = static_cast<std::size_t>(rows[r]);

@@ -22,4 +22,22 @@ long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, 
   return static_cast<long>(history.size());
 }
 
+void append_history(std::vector<double>& table, std::size_t slot, const std::vector<KinematicIncrement>& history) {
+  for (const KinematicIncrement& r : history)
+    table.insert(table.end(), {double(slot), r.F(0, 0), r.F(0, 1), r.F(1, 0), r.F(1, 1), r.L(0, 0), r.L(0, 1), r.L(1, 0),
+                               r.L(1, 1), r.dt});
+}
+
+std::vector<std::pair<std::size_t, KinematicIncrement>> history_rows(const std::vector<double>& table) {
+  std::vector<std::pair<std::size_t, KinematicIncrement>> rows;
+  for (std::size_t r = 0; r + kHistoryColumns <= table.size(); r += kHistoryColumns) {
+    KinematicIncrement increment;
+    increment.F << table[r + 1], table[r + 2], table[r + 3], table[r + 4];
+    increment.L << table[r + 5], table[r + 6], table[r + 7], table[r + 8];
+    increment.dt = table[r + 9];
+    rows.emplace_back(static_cast<std::size_t>(table[r]), increment);
+  }
+  return rows;
+}
+
 }  // namespace grainbank::mpm

@@ -2,6 +2,7 @@
 // "Fallback"): either drive a stored cell (the nearest snapshot, or the template) to the point's
 // deformation, or replay the point's own recorded increments from the template (exact, slower).
 #pragma once
+#include <cstddef>
 #include <utility>
 #include <vector>
 
@@ -18,5 +19,12 @@ long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, do
 // Re-runs `history` on `cell` (normally a fresh copy of the template): the cell a point of the live
 // law would own after the same increments. Returns the number of increments.
 long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model);
+
+// The replay histories of a law's points as a restart table (law_state_archive.hpp): rows slot,
+// F_inc (4, row-major), L (4), dt, each point's increments in step order.
+inline constexpr std::size_t kHistoryColumns = 10;
+void append_history(std::vector<double>& table, std::size_t slot, const std::vector<KinematicIncrement>& history);
+// The rows of such a table in order, as (slot, increment).
+std::vector<std::pair<std::size_t, KinematicIncrement>> history_rows(const std::vector<double>& table);
 
 }  // namespace grainbank::mpm

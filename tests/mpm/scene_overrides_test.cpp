@@ -10,6 +10,7 @@
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
 #include "mpm_solver/app/scene_overrides.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm::app {
 namespace {
@@ -87,15 +88,17 @@ TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
 }
 
 TEST(SceneOverrides, ErrorsNameTheFlagAndTheExpectedValue) {
-  EXPECT_EQ(error_of(kScene, overrides("elastic", std::nullopt)), "--law: expected \"cache\", \"hybrid\" or \"live\", got \"elastic\"");
+  // The DEM-backed laws are whatever is registered (laws/law_registry.hpp).
+  EXPECT_EQ(error_of(kScene, overrides("elastic", std::nullopt)),
+            "--law: expected " + dem_backed_law_names() + ", got \"elastic\"");
   EXPECT_EQ(error_of(kScene, overrides(std::nullopt, "")),
             "--library: expected a library directory, got an empty path");
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
   EXPECT_EQ(error_of(analytic, overrides(std::nullopt, "LIB")),
-            "--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
+            "--library: expected a scene with a DEM-backed material (law " + dem_backed_law_names() + "), found none");
   EXPECT_EQ(error_of(analytic, overrides("live", "LIB")),
-            "--law/--library: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
+            "--law/--library: expected a scene with a DEM-backed material (law " + dem_backed_law_names() + "), found none");
 }
 
 TEST(SceneOverrides, MaterialPatchMergesIntoDemBackedMaterialsAfterTheLaw) {
@@ -152,7 +155,7 @@ TEST(SceneOverrides, MaterialAndSettingErrorsNameTheFlag) {
   nlohmann::json analytic = kScene;
   analytic["materials"] = nlohmann::json::array({kScene["materials"][0]});
   EXPECT_EQ(error_of(analytic, overrides(std::nullopt, std::nullopt, nlohmann::json::object())),
-            "--material: expected a scene with a DEM-backed material (law \"cache\", \"hybrid\" or \"live\"), found none");
+            "--material: expected a scene with a DEM-backed material (law " + dem_backed_law_names() + "), found none");
   EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/3/q_h=1")})),
             "--set /materials/3/q_h: expected an index below 3, got \"3\"");
   EXPECT_EQ(error_of(kScene, overrides(std::nullopt, std::nullopt, std::nullopt, {parse_setting("/materials/x=1")})),
@@ -207,7 +210,7 @@ TEST(SceneOverrides, CommandLineRunsTheRewrittenSceneAndWritesTrackedCells) {
                           " --law plastic --out " + out.string() + " 2> " + (dir.path() / "stderr.txt").string();
   EXPECT_NE(std::system(bad.c_str()), 0);
   EXPECT_EQ(first_line(dir.path() / "stderr.txt"),
-            "mpm_solver: --law: expected \"cache\", \"hybrid\" or \"live\", got \"plastic\"");
+            "mpm_solver: --law: expected " + dem_backed_law_names() + ", got \"plastic\"");
   // A library that does not exist: the loader's error, with the rewritten scene named.
   const std::string missing = std::string(MPM_SOLVER_BINARY) + " " + (dir.path() / "scene.json").string() +
                               " --library " + (dir.path() / "nolib").string() + " --out " + out.string() + " 2> " +

@@ -1,0 +1,270 @@
+#include "mpm_solver/dem_laws/surrogate_law.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "dem_sampler/driver/cell_input.hpp"
+#include "mpm_solver/dem_laws/dem_material_input.hpp"
+#include "mpm_solver/dem_laws/library_link.hpp"
+#include "mpm_solver/dem_laws/warm_start.hpp"
+#include "mpm_solver/laws/law_registry.hpp"
+#include "database/store/error.hpp"
+#include "database/surrogate/length_scales.hpp"
+#include "database/surrogate/surrogate_step.hpp"
+
+namespace grainbank::mpm {
+
+namespace {
+
+surrogate::LengthScales fitted_scales(const surrogate::Dataset& dataset, const surrogate::SurrogateOptions& options) {
+  // Fewer than two samples tell nothing of their spread: unit scales.
+  if (dataset.samples.size() < 2) return surrogate::initial_length_scales(dataset.samples);
+  return surrogate::fit_length_scales(dataset.constants, dataset.samples, options).scales;
+}
+
+dem::Mat3 embed_velocity_gradient(const Mat2& L) {
+  dem::Mat3 out = dem::Mat3::Zero();
+  out.topLeftCorner<2, 2>() = L;
+  return out;
+}
+
+surrogate::PointState state_of(const dem::Mat3& stress, const dem::CellMeasures& m) {
+  return {stress, m.solid_fraction, m.coordination, m.damage};
+}
+
+}  // namespace
+
+SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset dataset,
+                           SurrogateLawSettings settings)
+    : settings_(settings), model_(cell_template, settings.live) {
+  if (!(settings_.tolerance >= 0)) throw std::invalid_argument("tolerance: expected a number >= 0 [Pa]");
+  if (settings_.return_after < 0) throw std::invalid_argument("return_after: expected an integer >= 0");
+  const dem::CellMeasures m = cell_template.measures();
+  template_state_ = state_of(m.stress, m);
+  index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_.surrogate),
+                                                       settings_.surrogate);
+  index_->insert(dataset.samples);
+}
+
+std::size_t SurrogateLaw::add_point(PointStress& initial_stress) {
+  Point p;
+  p.state = template_state_;
+  points_.push_back(std::move(p));
+  initial_stress = plane_stress_of(template_state_.stress);
+  return points_.size() - 1;
+}
+
+void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
+  Point& p = points_[slot];
+  p.history.push_back(increment);
+  const dem::Mat3 L = embed_velocity_gradient(increment.L);
+
+  if (p.cell) {
+    // Asked before this step's response is learned: would the surrogate have answered it?
+    const bool inside =
+        settings_.return_after > 0 &&
+        surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance).hit;
+    advance_live(slot, p, increment, L, stress);
+    p.steps_inside = inside ? p.steps_inside + 1 : 0;
+    if (settings_.return_after > 0 && p.steps_inside >= settings_.return_after) {
+      p.cell.reset();  // the point keeps the cell's state
+      --live_points_;
+      p.steps_inside = 0;
+      ++p.counters.returned_to_cache;
+    }
+    return;
+  }
+
+  const surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+  if (!step.hit) {
+    ++p.counters.misses;
+    go_live(p);
+    advance_live(slot, p, increment, L, stress);
+    return;
+  }
+  ++p.counters.hits;
+  p.counters.estimated_error_sum += step.estimated_error;
+  p.state = step.state;
+  stress = plane_stress_of(p.state.stress);
+  p.source = StressSource::hit;
+  p.error = step.estimated_error;
+}
+
+void SurrogateLaw::go_live(Point& p) {
+  const auto start = std::chrono::steady_clock::now();
+  p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
+  // The history already holds this step's increment, which advance_live applies.
+  const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
+  p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_));
+  const dem::CellMeasures m = p.cell->measures();
+  p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
+  p.steps_inside = 0;
+  ++live_points_;
+  ++p.counters.went_live;
+  p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
+                                PointStress& stress) {
+  const surrogate::PointState before = p.state;
+  const dem::Mat3 sigma = model_.advance(*p.cell, increment);
+  p.state = state_of(sigma, p.cell->measures());
+  stress = plane_stress_of(sigma);
+  p.source = StressSource::live;
+  p.error = 0;
+  ++p.counters.live_updates;
+  // A rest or a pure spin has no rate per |D| (rate_answer.hpp): nothing to learn.
+  if (increment.dt > 0 && (L + L.transpose()).norm() > 0)
+    learn({surrogate::make_sample(before, p.state, L, increment.dt, index_->constants(),
+                                  {-static_cast<std::int64_t>(slot) - 1,
+                                   static_cast<std::int64_t>(p.history.size()) - 1})});
+}
+
+void SurrogateLaw::learn(const std::vector<surrogate::Sample>& samples) {
+  index_->insert(samples);
+  const std::lock_guard<std::mutex> guard(learned_mutex_);
+  learned_.insert(learned_.end(), samples.begin(), samples.end());
+}
+
+std::size_t SurrogateLaw::learned() const {
+  const std::lock_guard<std::mutex> guard(learned_mutex_);
+  return learned_.size();
+}
+
+double SurrogateLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
+  const Point& p = points_[slot];
+  return p.cell ? p.cell->volume() / model_.template_volume() : F.determinant();
+}
+
+double SurrogateLaw::p_wave_modulus(std::size_t slot) const {
+  dem::CellMeasures m;
+  m.solid_fraction = points_[slot].state.solid_fraction;
+  m.coordination = points_[slot].state.coordination;
+  return model_.modulus(m);
+}
+
+double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const {
+  const Point& p = points_[slot];
+  // A surrogate point's cell would be the template deformed by its F.
+  return model_.time_step_limit(p.cell ? p.cell->cell_matrix() : embed_plane_strain(F) * model_.template_cell_matrix(), L);
+}
+
+namespace {
+
+// Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance; live cells as
+// "cell_<slot>"; the replay histories as append_history writes them; the learned samples as rows
+// features, answer, origin path, origin record, in insertion order.
+constexpr std::size_t kPointColumns = 15;
+constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
+std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
+
+}  // namespace
+
+void SurrogateLaw::save_state(LawStateWriter& out) const {
+  std::vector<double> rows, history, samples;
+  for (std::size_t slot = 0; slot < points_.size(); ++slot) {
+    const Point& p = points_[slot];
+    rows.push_back(double(slot));
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) rows.push_back(p.state.stress(i, j));
+    rows.insert(rows.end(), {p.state.solid_fraction, p.state.coordination, p.state.damage, p.cell ? 1.0 : 0.0,
+                             double(p.steps_inside)});
+    append_history(history, slot, p.history);
+    if (p.cell) out.write_cell(cell_name(slot), *p.cell);
+  }
+  {
+    const std::lock_guard<std::mutex> guard(learned_mutex_);
+    for (const surrogate::Sample& s : learned_) {
+      samples.insert(samples.end(), s.features.begin(), s.features.end());
+      samples.insert(samples.end(), s.answer.begin(), s.answer.end());
+      samples.insert(samples.end(), {double(s.origin.path_id), double(s.origin.record_index)});
+    }
+  }
+  out.write_table("surrogate_points", rows, kPointColumns);
+  out.write_table("replay_history", history, kHistoryColumns);
+  out.write_table("surrogate_learned", samples, kSampleColumns);
+}
+
+void SurrogateLaw::restore_state(LawStateReader& in) {
+  if (learned() > 0) throw std::logic_error("surrogate law: restore_state into a law that has already learned samples");
+  for (Point& p : points_) p.history.clear();
+  const std::vector<double> history = in.read_table("replay_history", kHistoryColumns);
+  for (const auto& [slot, increment] : history_rows(history)) points_.at(slot).history.push_back(increment);
+  const std::vector<double> rows = in.read_table("surrogate_points", kPointColumns);
+  for (std::size_t r = 0; r < rows.size(); r += kPointColumns) {
+    const auto slot = static_cast<std::size_t>(rows[r]);
+    Point& p = points_.at(slot);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) p.state.stress(i, j) = rows[r + 1 + 3 * i + j];
+    p.state.solid_fraction = rows[r + 10];
+    p.state.coordination = rows[r + 11];
+    p.state.damage = rows[r + 12];
+    p.steps_inside = static_cast<int>(rows[r + 14]);
+    p.error = 0;
+    p.source = StressSource::hit;
+    if (p.cell) --live_points_;
+    p.cell.reset();
+    if (rows[r + 13] == 0) continue;
+    p.cell = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(cell_name(slot))));
+    ++live_points_;
+    p.source = StressSource::live;
+  }
+  const std::vector<double> table = in.read_table("surrogate_learned", kSampleColumns);
+  std::vector<surrogate::Sample> samples;
+  for (std::size_t r = 0; r < table.size(); r += kSampleColumns) {
+    surrogate::Sample s;
+    std::copy_n(table.begin() + static_cast<std::ptrdiff_t>(r), surrogate::kFeatureCount, s.features.begin());
+    std::copy_n(table.begin() + static_cast<std::ptrdiff_t>(r + surrogate::kFeatureCount), surrogate::kAnswerSize,
+                s.answer.begin());
+    s.origin = {static_cast<std::int64_t>(table[r + kSampleColumns - 2]),
+                static_cast<std::int64_t>(table[r + kSampleColumns - 1])};
+    samples.push_back(s);
+  }
+  if (!samples.empty()) learn(samples);
+}
+
+namespace {
+
+using common::JsonNode;
+using common::Range;
+
+// {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
+// (the library must have its material), "k", "fallback": {"return_after"}, and the "substepping"
+// and "q_h" of every DEM-backed law.
+constexpr std::string_view kKeys[] = {"name", "law",         "library", "template", "cell",    "tolerance",
+                                      "k",    "substepping", "q_h",     "fallback"};
+
+std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
+  SurrogateLawSettings s;
+  s.live = read_live_settings(material);
+  s.tolerance = material.number("tolerance", Range::at_least(0));
+  s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
+  if (const auto fallback = material.find("fallback")) {
+    fallback->allow_only({"return_after"});
+    s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
+  }
+  const JsonNode lib = material.at("library", "a library directory (string)");
+  const std::int64_t id = material.at("template", "a template id (integer)").integer(1);
+  std::optional<dem::Material> expected;
+  if (material.has("cell")) expected = app::load_cell_input(scene.folder / material.at("cell", "").string()).material;
+  std::unique_ptr<LibraryLink> link;
+  surrogate::Dataset dataset;
+  try {
+    link = std::make_unique<LibraryLink>(scene.folder / lib.string(), id, expected ? &*expected : nullptr);
+    dataset = link->locked([](db::Library& library) { return surrogate::reindex(library); });
+  } catch (const db::StoreError& e) {
+    lib.fail(e.what());
+  }
+  require_effects(material, link->template_cell().material(), scene.effects, "the library " + lib.string());
+  return common::at_node(material,
+                         [&] { return std::make_unique<SurrogateLaw>(link->template_cell(), std::move(dataset), s); });
+}
+
+const LawRegistration registration{{"surrogate", kKeys, true, &read}};
+
+}  // namespace
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,103 @@
+// The state-keyed surrogate law (issue 13): every point carries its own state (σ, φ, Z, D) and
+// integrates it with the rate answers of a surrogate index over a cell library
+// (database/surrogate), falling back to a live DEM cell where the surrogate's own error estimate is
+// too large.
+//
+// Promises:
+// - Each update of a point that is not live takes surrogate_step for its state under the
+//   increment's L: when the estimated error of the step's stress [Pa] is within `tolerance` the
+//   point's state advances with the predicted answer (source hit); otherwise the point goes live.
+// - Going live rebuilds the point's cell by replaying the point's own increments from the template
+//   (exact: the cell a live-law point would own), then the cell answers as in the live law
+//   (LiveCellModel). With tolerance 0 every step with stretching is live, so the law equals the
+//   live law to round-off.
+// - Every live step's response (the cell's state before and after, under the increment's L) enters
+//   the index at once as a new sample (issue 13, item 4), so later queries near it may hit. Its
+//   origin is path −(slot + 1), record = the index of the increment in the point's history.
+// - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
+//   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
+//   was within the tolerance (0: it stays live).
+// - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
+// - save_state/restore_state keep each point's state, live flag, steps inside, replay history and
+//   cell, and the samples learned so far: a restart continues bit for bit.
+// Limitation: with several threads, whether a point sees a sample inserted by another point during
+// the same MPM step depends on timing (one thread, or points that only learn from themselves, are
+// deterministic).
+#pragma once
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "mpm_solver/core/constitutive_law.hpp"
+#include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "database/surrogate/reindex.hpp"
+#include "database/surrogate/surrogate_index.hpp"
+
+namespace grainbank::mpm {
+
+struct SurrogateLawSettings {
+  double tolerance = 0;  // [Pa] estimated error of one step's stress above which a point goes live
+  surrogate::SurrogateOptions surrogate;  // k (and the local fit's ridge)
+  int return_after = 0;   // live steps within the tolerance before a point returns to the surrogate
+  LiveDemSettings live;   // of the live cells
+};
+
+class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
+ public:
+  // Fits the length scales on `dataset` (leave-path-out, length_scales.hpp) and indexes it; an
+  // empty dataset gives unit scales and an index that starts empty (every point goes live and the
+  // index learns from the cells). Throws std::invalid_argument on bad settings.
+  SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset dataset, SurrogateLawSettings settings);
+
+  std::string name() const override { return "surrogate"; }
+  double density() const override { return model_.density(); }
+  std::size_t add_point(PointStress& initial_stress) override;
+  void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
+  double volume_ratio(std::size_t slot, const Mat2& F) const override;
+  double p_wave_modulus(std::size_t slot) const override;
+  double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
+  double damage(std::size_t slot) const override { return points_[slot].state.damage; }
+  bool expensive() const override { return live_points_ > 0; }
+  void save_state(LawStateWriter& out) const override;
+  void restore_state(LawStateReader& in) override;
+  const DemBackedLaw* dem_backed() const override { return this; }
+
+  StressSource source(std::size_t slot) const override { return points_[slot].source; }
+  double estimated_error(std::size_t slot) const override { return points_[slot].error; }
+  CouplingCounters point_counters(std::size_t slot) const override { return points_[slot].counters; }
+  const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
+
+  const surrogate::SurrogateIndex& index() const { return *index_; }
+  const surrogate::PointState& state(std::size_t slot) const { return points_[slot].state; }
+  // Samples inserted from live responses so far.
+  std::size_t learned() const;
+
+ private:
+  struct Point {
+    surrogate::PointState state;
+    double error = 0;
+    StressSource source = StressSource::hit;
+    std::unique_ptr<dem::DemCell> cell;       // live only
+    int steps_inside = 0;                     // consecutive live steps within the tolerance
+    std::vector<KinematicIncrement> history;  // every increment so far, for the replay
+    CouplingCounters counters;
+  };
+
+  void go_live(Point& p);
+  void advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
+                    PointStress& stress);
+  void learn(const std::vector<surrogate::Sample>& samples);
+
+  SurrogateLawSettings settings_;
+  LiveCellModel model_;
+  surrogate::PointState template_state_;
+  std::unique_ptr<surrogate::SurrogateIndex> index_;
+  mutable std::mutex learned_mutex_;
+  std::vector<surrogate::Sample> learned_;  // guarded by learned_mutex_
+  std::vector<Point> points_;
+  std::atomic<long> live_points_{0};
+};
+
+}  // namespace grainbank::mpm

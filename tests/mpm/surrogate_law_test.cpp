@@ -1,0 +1,264 @@
+// The surrogate law (issue 13) on a small real library sampled in-process (forty generated
+// two-segment paths of the 64-sphere cohesive cell, tests/database/surrogate_test_util.hpp):
+// - a point driven along each stored path's own velocity gradients follows that path's stress
+//   within the error the law estimates, summed over the steps;
+// - with tolerance 0 every step is live and the law is the live law;
+// - live responses learned by one point let a second point along the same motion hit more;
+// - a restart continues bit for bit; a scene names the law and its keys are checked.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <vector>
+
+#include "tests/database/surrogate_test_util.hpp"
+#include "common/json_input.hpp"
+#include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/dem_laws/surrogate_law.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+#include "database/store/library.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+constexpr double kDt = 2e-4;  // the library's record interval
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
+
+// The library, its template and its dataset, built once for the whole process.
+struct SharedLibrary {
+  surrogate::test::TempDir dir{"grainbank-surrogate-law"};
+  std::filesystem::path path = dir.path() / "LIB";
+  std::int64_t template_id = 0;
+  std::optional<dem::DemCell> cell;
+  surrogate::Dataset dataset;
+  std::vector<std::vector<db::Record>> paths;
+};
+
+const SharedLibrary& shared() {
+  static const SharedLibrary* const library = [] {
+    auto* s = new SharedLibrary;
+    db::Library library = surrogate::test::build_library(s->dir, s->path, surrogate::test::kGeneralPaths);
+    s->template_id = library.catalogue().templates().front().id;
+    s->cell.emplace(library.restore(library.template_cell(s->template_id)));
+    s->dataset = surrogate::reindex(library);
+    for (const db::PathRow& path : library.catalogue().paths()) s->paths.push_back(library.records(path.id));
+    return s;
+  }();
+  return *library;
+}
+
+SurrogateLawSettings settings(double tolerance, int return_after = 0) {
+  SurrogateLawSettings s;
+  s.tolerance = tolerance;
+  s.return_after = return_after;
+  return s;
+}
+
+std::unique_ptr<SurrogateLaw> surrogate_law(const SurrogateLawSettings& s) {
+  return std::make_unique<SurrogateLaw>(*shared().cell, shared().dataset, s);
+}
+
+// Drives one point of a law through increments at constant L, as the MPM step would.
+struct Driver {
+  std::size_t slot = 0;
+  Mat2 F = Mat2::Identity();
+  PointStress stress;
+  void operator()(ConstitutiveLaw& law, const Mat2& L, double dt) {
+    const KinematicIncrement increment = KinematicIncrement::of_velocity_gradient(L, dt);
+    F = increment.F * F;
+    law.update(slot, increment, F, stress);
+  }
+};
+
+Driver new_point(ConstitutiveLaw& law) {
+  Driver d;
+  d.slot = law.add_point(d.stress);
+  return d;
+}
+
+// A motion the library's 0.4 % paths do not cover: 2.4 % of compression with shear.
+std::vector<Mat2> off_library_motion() {
+  return std::vector<Mat2>(60, Mat2{{-1.5, 1.0}, {0.0, 0.5}});
+}
+
+double stress_distance(const PointStress& a, const PointStress& b) {
+  return std::sqrt((a.in_plane - b.in_plane).squaredNorm() + (a.zz - b.zz) * (a.zz - b.zz));
+}
+
+TEST(SurrogateLaw, FollowsStoredPathsWithinTheSummedEstimatedError) {
+  auto law = surrogate_law(settings(kNoLimit));
+  int records = 0, within = 0;
+  for (const std::vector<db::Record>& path : shared().paths) {
+    Driver d = new_point(*law);
+    // The point starts from the template, the path from its first record: the same state.
+    double bound = stress_distance(d.stress, plane_stress_of(db::from_stress6(path.front().stress)));
+    for (std::size_t k = 0; k + 1 < path.size(); ++k) {
+      d(*law, path[k + 1].L.topLeftCorner<2, 2>(), path[k + 1].time - path[k].time);
+      ASSERT_EQ(law->source(d.slot), StressSource::hit);
+      bound += law->estimated_error(d.slot);
+      ++records;
+      within += stress_distance(d.stress, plane_stress_of(db::from_stress6(path[k + 1].stress))) <= bound;
+    }
+  }
+  std::printf("%d of %d records within the summed estimated error\n", within, records);
+  EXPECT_GT(records, 400);
+  // As database.surrogate_integration measures on the same library (98 %): the misses are first
+  // steps out of the template at rest, where forty paths leave one state in forty directions.
+  EXPECT_GE(within, 0.95 * records);
+}
+
+TEST(SurrogateLaw, WithToleranceZeroEveryStepIsLiveAndEqualsTheLiveLaw) {
+  auto law = surrogate_law(settings(0));
+  LiveDemLaw live(*shared().cell, LiveDemSettings{});
+  Driver a = new_point(*law), b = new_point(live);
+  EXPECT_EQ(a.stress.in_plane, b.stress.in_plane);
+  const std::vector<Mat2> motion = off_library_motion();
+  for (int k = 0; k < 8; ++k) {
+    a(*law, motion[k], kDt);
+    b(live, motion[k], kDt);
+    EXPECT_EQ(law->source(a.slot), StressSource::live);
+    EXPECT_EQ(a.stress.in_plane, b.stress.in_plane);
+    EXPECT_EQ(a.stress.zz, b.stress.zz);
+    EXPECT_EQ(law->p_wave_modulus(a.slot), live.p_wave_modulus(b.slot));
+    EXPECT_EQ(law->damage(a.slot), live.damage(b.slot));
+  }
+  const CouplingCounters c = law->point_counters(a.slot);
+  EXPECT_EQ(c.went_live, 1u);
+  EXPECT_EQ(c.live_updates, 8u);
+  EXPECT_EQ(c.warm_start_increments, 0u);  // live from the first step: the template itself
+  EXPECT_EQ(law->learned(), 8u);
+  EXPECT_EQ(law->index().size(), shared().dataset.samples.size() + 8);
+}
+
+// The per-step estimated errors of a point along `motion` answered by the surrogate alone.
+std::vector<double> surrogate_errors(const std::vector<Mat2>& motion) {
+  auto law = surrogate_law(settings(kNoLimit));
+  Driver d = new_point(*law);
+  std::vector<double> errors;
+  for (const Mat2& L : motion) {
+    d(*law, L, kDt);
+    errors.push_back(law->estimated_error(d.slot));
+  }
+  return errors;
+}
+
+// A tolerance the motion exceeds about halfway.
+double median_tolerance(const std::vector<Mat2>& motion) {
+  std::vector<double> errors = surrogate_errors(motion);
+  std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
+  return errors[errors.size() / 2];
+}
+
+// Points return to the surrogate after two steps within the tolerance: the second point finds the
+// first one's live responses along its way and stays on the surrogate where the first went live.
+TEST(SurrogateLaw, LiveResponsesRaiseTheHitRateOfTheNextPoint) {
+  const std::vector<Mat2> motion = off_library_motion();
+  auto law = surrogate_law(settings(median_tolerance(motion), 2));
+  Driver first = new_point(*law), second = new_point(*law);
+  for (const Mat2& L : motion) first(*law, L, kDt);
+  const CouplingCounters a = law->point_counters(first.slot);
+  ASSERT_GE(a.went_live, 1u);
+  EXPECT_EQ(law->learned(), a.live_updates);
+  for (const Mat2& L : motion) second(*law, L, kDt);
+  const CouplingCounters b = law->point_counters(second.slot);
+  std::printf("hits along the motion: first point %llu, second point %llu of %zu steps\n",
+              static_cast<unsigned long long>(a.hits), static_cast<unsigned long long>(b.hits), motion.size());
+  EXPECT_GT(b.hits, a.hits);
+  EXPECT_LT(b.live_updates, a.live_updates);
+}
+
+// A solver holding one point of a surrogate law (restart files are written from a solver).
+Solver one_point_solver(const SurrogateLawSettings& s) {
+  Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
+  solver.add_law(surrogate_law(s));
+  solver.add_point(0, Vec2(0.3, 0.3), 0.0025, 0.025, Vec2::Zero());
+  return solver;
+}
+
+SurrogateLaw& law_of(Solver& solver) { return dynamic_cast<SurrogateLaw&>(solver.law(0)); }
+
+TEST(SurrogateLaw, ARestartContinuesBitForBit) {
+  const std::vector<Mat2> motion = off_library_motion();
+  const SurrogateLawSettings s = settings(median_tolerance(motion), 2);
+  Solver straight = one_point_solver(s);
+  Driver d;
+  std::vector<PointStress> expected;
+  std::vector<StressSource> sources;
+  for (const Mat2& L : motion) {
+    d(law_of(straight), L, kDt);
+    expected.push_back(d.stress);
+    sources.push_back(law_of(straight).source(0));
+  }
+  // Restart one step after the point first went live: its cell, history and learned samples matter.
+  const auto live = std::find(sources.begin(), sources.end(), StressSource::live);
+  ASSERT_NE(live, sources.end());
+  const auto restart_after = static_cast<std::size_t>(live - sources.begin()) + 2;
+  ASSERT_LT(restart_after, motion.size());
+
+  Solver first = one_point_solver(s);
+  Driver e;
+  for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
+  const std::filesystem::path file = shared().dir.path() / "restart.h5";
+  io::write_restart(file, first);
+  Solver resumed = one_point_solver(s);
+  io::read_restart(file, resumed);
+  EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
+  for (std::size_t k = restart_after; k < motion.size(); ++k) {
+    e(law_of(resumed), motion[k], kDt);
+    EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
+    EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
+    EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+  }
+  EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
+  EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
+}
+
+std::filesystem::path write_scene(const std::string& material_extra) {
+  const std::filesystem::path file = shared().dir.path() / "scene.json";
+  std::ofstream(file) << R"({
+  "grid": {"cell_size": 0.1, "cells": [6, 6]},
+  "time": {"end": 0.001, "output_interval": 0.001},
+  "integration": {"homogeneous_drive": {"L": [[-1, 2], [0, 0.5]], "origin": [0.3, 0.3]}},
+  "materials": [{"name": "snow", "law": "surrogate", "library": ")" +
+                             shared().path.string() + R"(", "template": )" +
+                             std::to_string(shared().template_id) + R"(, "tolerance": 2000, "k": 16,
+                 "fallback": {"return_after": 3})" + material_extra + R"(}],
+  "regions": [{"material": "snow", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.4]}}]
+})";
+  return file;
+}
+
+TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
+  const io::Scene scene = io::load_scene(write_scene(""));
+  ASSERT_FALSE(scene.solver->points().empty());
+  const auto& law = dynamic_cast<const SurrogateLaw&>(scene.solver->law(0));
+  EXPECT_EQ(law.name(), "surrogate");
+  EXPECT_EQ(law.index().options().k, 16u);
+  EXPECT_EQ(law.index().size(), shared().dataset.samples.size());
+  // Stepped by the solver (its points updated in parallel): every point-step is answered once.
+  for (int k = 0; k < 3; ++k) scene.solver->step(kDt);
+  CouplingCounters total;
+  for (const MaterialPoint& mp : scene.solver->points()) {
+    total += law.point_counters(mp.slot);
+    EXPECT_TRUE(mp.stress.in_plane.allFinite());
+  }
+  std::printf("%zu points, 3 steps: %llu hits, %llu live updates, %llu went live\n", scene.solver->points().size(),
+              static_cast<unsigned long long>(total.hits), static_cast<unsigned long long>(total.live_updates),
+              static_cast<unsigned long long>(total.went_live));
+  EXPECT_EQ(total.hits + total.live_updates, 3 * scene.solver->points().size());
+  EXPECT_EQ(law.index().size(), shared().dataset.samples.size() + law.learned());
+  try {
+    io::load_scene(write_scene(R"(, "lookup": {"k": 4})"));
+    FAIL() << "an unknown key was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/lookup: unknown key"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
