@@ -42,6 +42,7 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
     : settings_(settings), model_(cell_template, settings.live) {
   if (!(settings_.tolerance >= 0)) throw std::invalid_argument("tolerance: expected a number >= 0 [Pa]");
   if (settings_.return_after < 0) throw std::invalid_argument("return_after: expected an integer >= 0");
+  if (!(settings_.error_budget > 0)) throw std::invalid_argument("error_budget: expected a positive number [Pa]");
   const dem::CellMeasures m = cell_template.measures();
   template_state_ = state_of(m.stress, m);
   index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_.surrogate),
@@ -73,13 +74,14 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
       p.cell.reset();  // the point keeps the cell's state
       --live_points_;
       p.steps_inside = 0;
+      p.spent = 0;
       ++p.counters.returned_to_cache;
     }
     return;
   }
 
   const surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
-  if (!step.hit) {
+  if (!step.hit || p.spent + step.estimated_error > settings_.error_budget) {
     ++p.counters.misses;
     go_live(p);
     advance_live(slot, p, increment, L, stress);
@@ -87,6 +89,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   }
   ++p.counters.hits;
   p.counters.estimated_error_sum += step.estimated_error;
+  p.spent += step.estimated_error;
   p.state = step.state;
   stress = plane_stress_of(p.state.stress);
   p.source = StressSource::hit;
@@ -154,10 +157,11 @@ double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2
 
 namespace {
 
-// Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance; live cells as
+// Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
+// since it was last live [Pa]; live cells as
 // "cell_<slot>"; the replay histories as append_history writes them; the learned samples as rows
 // features, answer, origin path, origin record, in insertion order.
-constexpr std::size_t kPointColumns = 15;
+constexpr std::size_t kPointColumns = 16;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 
@@ -171,7 +175,7 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) rows.push_back(p.state.stress(i, j));
     rows.insert(rows.end(), {p.state.solid_fraction, p.state.coordination, p.state.damage, p.cell ? 1.0 : 0.0,
-                             double(p.steps_inside)});
+                             double(p.steps_inside), p.spent});
     append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
   }
@@ -203,6 +207,7 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     p.state.coordination = rows[r + 11];
     p.state.damage = rows[r + 12];
     p.steps_inside = static_cast<int>(rows[r + 14]);
+    p.spent = rows[r + 15];
     p.error = 0;
     p.source = StressSource::hit;
     if (p.cell) --live_points_;
@@ -232,15 +237,16 @@ using common::JsonNode;
 using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
-// (the library must have its material), "k", "fallback": {"return_after"}, and the "substepping"
-// and "q_h" of every DEM-backed law.
-constexpr std::string_view kKeys[] = {"name", "law",         "library", "template", "cell",    "tolerance",
-                                      "k",    "substepping", "q_h",     "fallback"};
+// (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after"},
+// and the "substepping" and "q_h" of every DEM-backed law.
+constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
+                                      "error_budget", "k",  "substepping", "q_h", "fallback"};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;
   s.live = read_live_settings(material);
   s.tolerance = material.number("tolerance", Range::at_least(0));
+  s.error_budget = material.number_or("error_budget", s.error_budget, Range::positive());
   s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after"});

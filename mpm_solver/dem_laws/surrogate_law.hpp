@@ -25,6 +25,7 @@
 // deterministic).
 #pragma once
 #include <atomic>
+#include <limits>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -41,6 +42,10 @@ struct SurrogateLawSettings {
   double tolerance = 0;  // [Pa] estimated error of one step's stress above which a point goes live
   surrogate::SurrogateOptions surrogate;  // k (and the local fit's ridge)
   int return_after = 0;   // live steps within the tolerance before a point returns to the surrogate
+  // [Pa] the sum of a point's estimated step errors since it last left a live cell (or since the
+  // start) may not exceed this: a step that would exceed it goes live instead (issue 13: an error
+  // budget per point over the run, so small errors cannot drift unchecked). Infinite: no budget.
+  double error_budget = std::numeric_limits<double>::infinity();
   LiveDemSettings live;   // of the live cells
 };
 
@@ -81,6 +86,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     StressSource source = StressSource::hit;
     std::unique_ptr<dem::DemCell> cell;       // live only
     int steps_inside = 0;                     // consecutive live steps within the tolerance
+    double spent = 0;                         // [Pa] estimated errors summed since it was last live
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
     CouplingCounters counters;
   };

@@ -172,6 +172,31 @@ TEST(SurrogateLaw, LiveResponsesRaiseTheHitRateOfTheNextPoint) {
   EXPECT_LT(b.live_updates, a.live_updates);
 }
 
+// With no tolerance a point never goes live; with an error budget of a few steps' errors it goes live
+// whenever the next step would spend past the budget, so the estimated errors summed over each run of
+// surrogate steps stay within it (and the point then returns after one live step).
+TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
+  const std::vector<Mat2> motion = off_library_motion();
+  const std::vector<double> errors = surrogate_errors(motion);
+  const double budget = 5 * median_tolerance(motion);
+  SurrogateLawSettings s = settings(kNoLimit, 1);
+  s.error_budget = budget;
+  auto law = surrogate_law(s);
+  Driver d = new_point(*law);
+  double spent = 0, largest = 0;
+  for (const Mat2& L : motion) {
+    d(*law, L, kDt);
+    spent = law->source(d.slot) == StressSource::hit ? spent + law->estimated_error(d.slot) : 0.0;
+    largest = std::max(largest, spent);
+  }
+  double unbounded = 0;
+  for (double e : errors) unbounded += e;
+  ASSERT_GT(unbounded, 2 * budget) << "the motion must spend past the budget without one";
+  EXPECT_GE(law->point_counters(d.slot).went_live, 1u);
+  EXPECT_LE(largest, budget);
+  EXPECT_GT(largest, 0.0);
+}
+
 // A solver holding one point of a surrogate law (restart files are written from a solver).
 Solver one_point_solver(const SurrogateLawSettings& s) {
   Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
