@@ -89,6 +89,8 @@ class DemCell {
   void set_friction(double mu);
 
   CellMeasures measures() const;
+  // The stress at the last measured step (measures().stress without the other sums).
+  const Mat3& stress() const { return stress_; }
   const Mat3& cell_matrix() const { return h_; }
   Mat3 deformation_gradient() const { return h_ * h_ref_.inverse(); }
   double volume() const { return cell_volume(h_); }

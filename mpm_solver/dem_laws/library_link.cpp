@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "database/store/error.hpp"
+#include "database/surrogate/reindex.hpp"
 
 namespace grainbank::mpm {
 
@@ -30,6 +31,23 @@ std::optional<db::StoredCell> LibraryLink::snapshot_before(const lookup::RecordR
   if (after == indices.begin()) return std::nullopt;
   const std::int64_t record = *(after - 1);
   return locked([&](db::Library& library) { return library.snapshot_cell(ref.path_id, record); });
+}
+
+std::vector<StateSnapshot> LibraryLink::state_snapshots() {
+  return locked([&](db::Library& library) {
+    std::vector<StateSnapshot> out;
+    for (const db::PathRow& path : library.catalogue().paths()) {
+      const auto found = snapshots_.find(path.id);
+      if (path.status != db::PathStatus::done || path.template_id != template_id_ || found == snapshots_.end()) continue;
+      const std::vector<db::Record> records = library.records(path.id);
+      for (const std::int64_t k : found->second) {
+        if (k >= static_cast<std::int64_t>(records.size())) continue;  // not committed
+        out.push_back({surrogate::point_state(records[static_cast<std::size_t>(k)]),
+                       library.snapshot_cell(path.id, k).state});
+      }
+    }
+    return out;
+  });
 }
 
 }  // namespace grainbank::mpm

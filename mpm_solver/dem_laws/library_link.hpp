@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "dem_sampler/cell/dem_cell.hpp"
+#include "mpm_solver/dem_laws/state_warm_start.hpp"
 #include "database/lookup/lookup_index.hpp"
 #include "database/store/library.hpp"
 
@@ -37,6 +38,9 @@ class LibraryLink {
   // The stored cell to warm-start a state near record `ref` from: the last snapshot of its path at
   // or before that record; none when the path has no such snapshot (then start from the template).
   std::optional<db::StoredCell> snapshot_before(const lookup::RecordRef& ref);
+  // Every snapshot of a done path of the template, with the state of the record it was taken after
+  // (what a state warm start chooses among), in catalogue order.
+  std::vector<StateSnapshot> state_snapshots();
 
   // Runs f(library) with the library to itself.
   template <class F>

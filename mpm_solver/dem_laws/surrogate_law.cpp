@@ -38,7 +38,7 @@ surrogate::PointState state_of(const dem::Mat3& stress, const dem::CellMeasures&
 }  // namespace
 
 SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset dataset,
-                           SurrogateLawSettings settings)
+                           SurrogateLawSettings settings, std::vector<StateSnapshot> snapshots)
     : settings_(settings), model_(cell_template, settings.live) {
   if (!(settings_.tolerance >= 0)) throw std::invalid_argument("tolerance: expected a number >= 0 [Pa]");
   if (settings_.return_after < 0) throw std::invalid_argument("return_after: expected an integer >= 0");
@@ -48,6 +48,12 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
   index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_.surrogate),
                                                        settings_.surrogate);
   index_->insert(dataset.samples);
+  StateWarmStartSettings& warm = settings_.state_warm_start;
+  if (warm.stress_tolerance == 0) warm.stress_tolerance = settings_.tolerance;
+  if (settings_.warm_start == SurrogateLawSettings::WarmStart::state && warm.stress_tolerance > 0) {
+    snapshots.push_back({template_state_, cell_template.state()});
+    warm_start_.emplace(std::move(snapshots), index_->constants(), index_->scales(), warm);
+  }
 }
 
 std::size_t SurrogateLaw::add_point(PointStress& initial_stress) {
@@ -98,10 +104,18 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
 
 void SurrogateLaw::go_live(Point& p) {
   const auto start = std::chrono::steady_clock::now();
-  p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
   // The history already holds this step's increment, which advance_live applies.
   const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
-  p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_));
+  if (warm_start_ && !before.empty()) {
+    WarmStartOutcome outcome = warm_start_->start(p.state, model_);
+    p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
+    if (outcome.cell) p.cell = std::make_unique<dem::DemCell>(std::move(*outcome.cell));
+    else ++p.counters.servo_fallbacks;
+  }
+  if (!p.cell) {
+    p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
+    p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_));
+  }
   const dem::CellMeasures m = p.cell->measures();
   p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
   p.steps_inside = 0;
@@ -135,11 +149,6 @@ void SurrogateLaw::learn(const std::vector<surrogate::Sample>& samples) {
 std::size_t SurrogateLaw::learned() const {
   const std::lock_guard<std::mutex> guard(learned_mutex_);
   return learned_.size();
-}
-
-double SurrogateLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
-  const Point& p = points_[slot];
-  return p.cell ? p.cell->volume() / model_.template_volume() : F.determinant();
 }
 
 double SurrogateLaw::p_wave_modulus(std::size_t slot) const {
@@ -237,8 +246,9 @@ using common::JsonNode;
 using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
-// (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after"},
-// and the "substepping" and "q_h" of every DEM-backed law.
+// (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after",
+// "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
+// "servo_inertial_number"}, and the "substepping" and "q_h" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "substepping", "q_h", "fallback"};
 
@@ -249,8 +259,17 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.error_budget = material.number_or("error_budget", s.error_budget, Range::positive());
   s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
-    fallback->allow_only({"return_after"});
+    fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number"});
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
+    if (const auto mode = fallback->find("warm_start")) {
+      const std::string name = mode->string();
+      if (name != "state" && name != "replay") mode->fail("expected \"state\" or \"replay\"");
+      s.warm_start = name == "state" ? SurrogateLawSettings::WarmStart::state : SurrogateLawSettings::WarmStart::replay;
+    }
+    StateWarmStartSettings& w = s.state_warm_start;
+    if (fallback->has("stress_tolerance")) w.stress_tolerance = fallback->number("stress_tolerance", Range::positive());
+    w.max_servo_steps = fallback->integer_or("max_servo_steps", w.max_servo_steps, 1, 1000000000);
+    w.servo_inertial_number = fallback->number_or("servo_inertial_number", w.servo_inertial_number, Range::positive());
   }
   const JsonNode lib = material.at("library", "a library directory (string)");
   const std::int64_t id = material.at("template", "a template id (integer)").integer(1);
@@ -258,15 +277,17 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   if (material.has("cell")) expected = app::load_cell_input(scene.folder / material.at("cell", "").string()).material;
   std::unique_ptr<LibraryLink> link;
   surrogate::Dataset dataset;
+  std::vector<StateSnapshot> snapshots;
   try {
     link = std::make_unique<LibraryLink>(scene.folder / lib.string(), id, expected ? &*expected : nullptr);
     dataset = link->locked([](db::Library& library) { return surrogate::reindex(library); });
+    if (s.warm_start == SurrogateLawSettings::WarmStart::state) snapshots = link->state_snapshots();
   } catch (const db::StoreError& e) {
     lib.fail(e.what());
   }
   require_effects(material, link->template_cell().material(), scene.effects, "the library " + lib.string());
   return common::at_node(material,
-                         [&] { return std::make_unique<SurrogateLaw>(link->template_cell(), std::move(dataset), s); });
+                         [&] { return std::make_unique<SurrogateLaw>(link->template_cell(), std::move(dataset), s, std::move(snapshots)); });
 }
 
 const LawRegistration registration{{"surrogate", kKeys, true, &read}};

@@ -7,16 +7,23 @@
 // - Each update of a point that is not live takes surrogate_step for its state under the
 //   increment's L: when the estimated error of the step's stress [Pa] is within `tolerance` the
 //   point's state advances with the predicted answer (source hit); otherwise the point goes live.
-// - Going live rebuilds the point's cell by replaying the point's own increments from the template
-//   (exact: the cell a live-law point would own), then the cell answers as in the live law
-//   (LiveCellModel). With tolerance 0 every step with stretching is live, so the law equals the
-//   live law to round-off.
+// - Going live (issue 13, item 3), with warm_start "state" (the default): the point's cell is the
+//   stored cell nearest in state (the library's snapshots of the template's paths, and the template
+//   itself) brought to the point's stress by the stress servo (state_warm_start.hpp), so its cost
+//   does not grow with the run. The point then carries the cell's state: its own σ (within
+//   stress_tolerance), the snapshot's φ, Z and D. With warm_start "replay", when the servo does not
+//   converge, or on the point's first step, the cell is rebuilt by replaying the point's own
+//   increments from the template (exact: the cell a live-law point would own). A live cell answers
+//   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
+//   starts from the template, so the law equals the live law to round-off.
 // - Every live step's response (the cell's state before and after, under the increment's L) enters
 //   the index at once as a new sample (issue 13, item 4), so later queries near it may hit. Its
 //   origin is path −(slot + 1), record = the index of the increment in the point's history.
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live).
+// - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
+//   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history and
 //   cell, and the samples learned so far: a restart continues bit for bit.
@@ -28,11 +35,13 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <vector>
 
 #include "mpm_solver/core/constitutive_law.hpp"
 #include "mpm_solver/core/dem_backed_law.hpp"
 #include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "mpm_solver/dem_laws/state_warm_start.hpp"
 #include "database/surrogate/reindex.hpp"
 #include "database/surrogate/surrogate_index.hpp"
 
@@ -47,20 +56,24 @@ struct SurrogateLawSettings {
   // budget per point over the run, so small errors cannot drift unchecked). Infinite: no budget.
   double error_budget = std::numeric_limits<double>::infinity();
   LiveDemSettings live;   // of the live cells
+  enum class WarmStart { state, replay } warm_start = WarmStart::state;
+  // Of the state warm start; a stress_tolerance of 0 means `tolerance` (and with both 0, replay).
+  StateWarmStartSettings state_warm_start;
 };
 
 class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
  public:
   // Fits the length scales on `dataset` (leave-path-out, length_scales.hpp) and indexes it; an
   // empty dataset gives unit scales and an index that starts empty (every point goes live and the
-  // index learns from the cells). Throws std::invalid_argument on bad settings.
-  SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset dataset, SurrogateLawSettings settings);
+  // index learns from the cells). `snapshots` are the stored cells a state warm start may begin
+  // from, besides the template. Throws std::invalid_argument on bad settings.
+  SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset dataset, SurrogateLawSettings settings,
+               std::vector<StateSnapshot> snapshots = {});
 
   std::string name() const override { return "surrogate"; }
   double density() const override { return model_.density(); }
   std::size_t add_point(PointStress& initial_stress) override;
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
-  double volume_ratio(std::size_t slot, const Mat2& F) const override;
   double p_wave_modulus(std::size_t slot) const override;
   double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return points_[slot].state.damage; }
@@ -75,6 +88,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
 
   const surrogate::SurrogateIndex& index() const { return *index_; }
+  // None when live cells start by replay.
+  const StateWarmStart* state_warm_start() const { return warm_start_ ? &*warm_start_ : nullptr; }
   const surrogate::PointState& state(std::size_t slot) const { return points_[slot].state; }
   // Samples inserted from live responses so far.
   std::size_t learned() const;
@@ -100,6 +115,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   LiveCellModel model_;
   surrogate::PointState template_state_;
   std::unique_ptr<surrogate::SurrogateIndex> index_;
+  std::optional<StateWarmStart> warm_start_;
   mutable std::mutex learned_mutex_;
   std::vector<surrogate::Sample> learned_;  // guarded by learned_mutex_
   std::vector<Point> points_;

@@ -41,6 +41,8 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"went_live", c.went_live},
                     {"returned_to_cache", c.returned_to_cache},
                     {"warm_start_increments", c.warm_start_increments},
+                    {"warm_start_servo_steps", c.warm_start_servo_steps},
+                    {"servo_fallbacks", c.servo_fallbacks},
                     {"warm_start_seconds", c.warm_start_seconds},
                     {"enriched_paths", c.enriched_paths},
                     {"enriched_records", c.enriched_records}});

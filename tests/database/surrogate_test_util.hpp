@@ -21,9 +21,10 @@ namespace grainbank::surrogate::test {
 using sampler::test::TempDir;
 
 // Forty generated two-segment paths (reversals and turns of the principal axes, volumetric and
-// deviatoric, with spin), 0.4 % strain each at 1-3 /s: ~540 intervals, about 2 s to sample.
+// deviatoric, with spin), 0.4 % strain each at 1-3 /s: ~540 intervals, about 2 s to sample; a
+// snapshot every fifth record (what a state warm start starts from).
 inline const char* const kGeneralPaths = R"({
-  "record_interval": 2e-4,
+  "record_interval": 2e-4, "snapshot_interval": 5,
   "generators": [{"count": 40, "rate": {"min": 1, "max": 3}, "strain": 0.004, "segments": 2,
                   "changes": ["reversal", "rotation"], "volumetric": 0.5, "spin": 0.2}]
 })";

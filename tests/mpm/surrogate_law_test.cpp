@@ -4,6 +4,8 @@
 //   within the error the law estimates, summed over the steps;
 // - with tolerance 0 every step is live and the law is the live law;
 // - live responses learned by one point let a second point along the same motion hit more;
+// - a point goes live from the stored cell nearest in state, servoed to its stress: no replay, and
+//   no jump of stress beyond the servo's tolerance and the step's own elastic increment;
 // - a restart continues bit for bit; a scene names the law and its keys are checked.
 #include <gtest/gtest.h>
 
@@ -17,6 +19,7 @@
 #include "tests/database/surrogate_test_util.hpp"
 #include "common/json_input.hpp"
 #include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/dem_laws/library_link.hpp"
 #include "mpm_solver/dem_laws/live_dem_law.hpp"
 #include "mpm_solver/dem_laws/surrogate_law.hpp"
 #include "mpm_solver/io/restart.hpp"
@@ -37,6 +40,7 @@ struct SharedLibrary {
   std::optional<dem::DemCell> cell;
   surrogate::Dataset dataset;
   std::vector<std::vector<db::Record>> paths;
+  std::vector<StateSnapshot> snapshots;
 };
 
 const SharedLibrary& shared() {
@@ -47,6 +51,7 @@ const SharedLibrary& shared() {
     s->cell.emplace(library.restore(library.template_cell(s->template_id)));
     s->dataset = surrogate::reindex(library);
     for (const db::PathRow& path : library.catalogue().paths()) s->paths.push_back(library.records(path.id));
+    s->snapshots = LibraryLink(s->path, s->template_id, nullptr).state_snapshots();
     return s;
   }();
   return *library;
@@ -60,7 +65,7 @@ SurrogateLawSettings settings(double tolerance, int return_after = 0) {
 }
 
 std::unique_ptr<SurrogateLaw> surrogate_law(const SurrogateLawSettings& s) {
-  return std::make_unique<SurrogateLaw>(*shared().cell, shared().dataset, s);
+  return std::make_unique<SurrogateLaw>(*shared().cell, shared().dataset, s, shared().snapshots);
 }
 
 // Drives one point of a law through increments at constant L, as the MPM step would.
@@ -197,6 +202,78 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   EXPECT_GT(largest, 0.0);
 }
 
+// The state warm start chooses among the library's snapshots and the template: a stored state finds
+// its own snapshot, and a state between snapshots gets a cell that carries that state's stress.
+TEST(SurrogateLaw, AStateWarmStartFindsTheNearestSnapshotAndServosItToThePointsStress) {
+  auto law = surrogate_law(settings(200));
+  const StateWarmStart* warm = law->state_warm_start();
+  ASSERT_NE(warm, nullptr);
+  ASSERT_GT(shared().snapshots.size(), 40u);
+  ASSERT_EQ(warm->size(), shared().snapshots.size() + 1) << "the snapshots and the template";
+  for (std::size_t i = 0; i < shared().snapshots.size(); i += 7)
+    EXPECT_EQ(warm->nearest(shared().snapshots[i].state), i);
+  // Records between snapshots of the longest path: states no snapshot holds exactly.
+  const auto longest = std::max_element(shared().paths.begin(), shared().paths.end(),
+                                        [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  int started = 0;
+  for (std::size_t k = 3; k < longest->size(); k += 5) {
+    const surrogate::PointState target = surrogate::point_state((*longest)[k]);
+    const WarmStartOutcome outcome = warm->start(target, LiveCellModel(*shared().cell, LiveDemSettings{}));
+    ASSERT_TRUE(outcome.cell.has_value()) << "record " << k << ": residual " << outcome.servo.residual << " Pa";
+    // Held still, the cell carries the target's stress (within twice the servo's tolerance).
+    dem::DemCell cell = *outcome.cell;
+    dem::Mat3 sum = dem::Mat3::Zero();
+    constexpr int kSteps = 200;
+    for (int step = 0; step < kSteps; ++step) {
+      cell.step_with_velocity_gradient(dem::Mat3::Zero(), cell.time_step(0.1));
+      sum += 0.5 * (cell.stress() + cell.stress().transpose());
+    }
+    const dem::Mat3 goal = 0.5 * (target.stress + target.stress.transpose());
+    EXPECT_LE((sum / kSteps - goal).cwiseAbs().maxCoeff(), 2 * 200.0) << "record " << k;
+    // The cell keeps the state it was copied from, but for the servo's small strain.
+    const dem::CellMeasures m = outcome.cell->measures();
+    EXPECT_NEAR(m.solid_fraction, warm->snapshot(outcome.snapshot).state.solid_fraction, 0.01);
+    ++started;
+  }
+  EXPECT_GE(started, 2);
+}
+
+// Along a motion the library does not cover, a point that goes live starts from a servoed snapshot:
+// no increment of its history is replayed, and its stress does not jump: the change of stress over
+// the step on which it goes live exceeds the largest change over a step between two live steps of
+// the same motion by at most the servo's tolerance.
+TEST(SurrogateLaw, APointGoesLiveFromAServoedSnapshotWithoutReplayOrJump) {
+  const std::vector<Mat2> motion = off_library_motion();
+  const double tolerance = median_tolerance(motion);
+  auto law = surrogate_law(settings(tolerance, 2));
+  Driver d = new_point(*law);
+  double largest_live_step = 0, largest_jump = 0;
+  int transitions = 0;
+  for (std::size_t k = 0; k < motion.size(); ++k) {
+    const PointStress before = d.stress;
+    const bool was_live = law->source(d.slot) == StressSource::live;
+    d(*law, motion[k], kDt);
+    ASSERT_TRUE(d.stress.in_plane.allFinite());
+    if (law->source(d.slot) != StressSource::live) continue;
+    const double change = stress_distance(d.stress, before);
+    if (was_live) {
+      largest_live_step = std::max(largest_live_step, change);
+    } else if (k > 0) {  // step 0 starts from the template itself
+      largest_jump = std::max(largest_jump, change);
+      ++transitions;
+    }
+  }
+  std::printf("%d transitions to live: largest change %.0f Pa; largest live step %.0f Pa; tolerance %.0f Pa\n",
+              transitions, largest_jump, largest_live_step, tolerance);
+  const CouplingCounters c = law->point_counters(d.slot);
+  ASSERT_GE(transitions, 1);
+  ASSERT_GT(largest_live_step, 0.0);
+  EXPECT_LE(largest_jump, largest_live_step + tolerance);
+  EXPECT_EQ(c.servo_fallbacks, 0u);
+  EXPECT_EQ(c.warm_start_increments, 0u) << "nothing replayed";
+  EXPECT_GT(c.warm_start_servo_steps, 0u);
+}
+
 // A solver holding one point of a surrogate law (restart files are written from a solver).
 Solver one_point_solver(const SurrogateLawSettings& s) {
   Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
@@ -243,7 +320,7 @@ TEST(SurrogateLaw, ARestartContinuesBitForBit) {
   EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
 }
 
-std::filesystem::path write_scene(const std::string& material_extra) {
+std::filesystem::path write_scene(const std::string& material_extra, const std::string& fallback_extra = "") {
   const std::filesystem::path file = shared().dir.path() / "scene.json";
   std::ofstream(file) << R"({
   "grid": {"cell_size": 0.1, "cells": [6, 6]},
@@ -252,7 +329,7 @@ std::filesystem::path write_scene(const std::string& material_extra) {
   "materials": [{"name": "snow", "law": "surrogate", "library": ")" +
                              shared().path.string() + R"(", "template": )" +
                              std::to_string(shared().template_id) + R"(, "tolerance": 2000, "k": 16,
-                 "fallback": {"return_after": 3})" + material_extra + R"(}],
+                 "fallback": {"return_after": 3)" + fallback_extra + "}" + material_extra + R"(}],
   "regions": [{"material": "snow", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.4]}}]
 })";
   return file;
@@ -282,6 +359,16 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
     FAIL() << "an unknown key was accepted";
   } catch (const common::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/materials/0/lookup: unknown key"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(law.state_warm_start(), nullptr) << "the default warm start is by state";
+  const io::Scene replaying = io::load_scene(write_scene("", R"(, "warm_start": "replay")"));
+  EXPECT_EQ(dynamic_cast<const SurrogateLaw&>(replaying.solver->law(0)).state_warm_start(), nullptr);
+  try {
+    io::load_scene(write_scene("", R"(, "warm_start": "sideways")"));
+    FAIL() << "an unknown warm start was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/warm_start"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"replay\""), std::string::npos) << e.what();
   }
 }
 

@@ -1,0 +1,67 @@
+#include "mpm_solver/dem_laws/state_warm_start.hpp"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "database/surrogate/state_features.hpp"
+
+namespace grainbank::mpm {
+
+StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surrogate::FeatureConstants& constants,
+                               const surrogate::LengthScales& scales, const StateWarmStartSettings& settings)
+    : snapshots_(std::move(snapshots)), constants_(constants), scales_(scales), settings_(settings) {
+  if (snapshots_.empty()) throw std::invalid_argument("state warm start: no snapshot to start from");
+  if (!(settings_.stress_tolerance > 0))
+    throw std::invalid_argument("fallback.stress_tolerance: expected a positive stress [Pa]");
+  if (!(settings_.servo_inertial_number > 0))
+    throw std::invalid_argument("fallback.servo_inertial_number: expected a positive number");
+  if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
+  surrogate::check(constants_);
+  keys_.reserve(snapshots_.size());
+  for (const StateSnapshot& s : snapshots_) keys_.push_back(key(s.state));
+}
+
+StateWarmStart::StateKey StateWarmStart::key(const surrogate::PointState& state) const {
+  const surrogate::FeatureVector f =
+      surrogate::feature_vector(surrogate::state_features(state, dem::Mat3::Zero(), constants_));
+  StateKey k;
+  for (std::size_t i = 0; i < kStateFeatures; ++i) k[i] = f[i] / scales_[i];
+  return k;
+}
+
+std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
+  const StateKey q = key(state);
+  std::size_t best = 0;
+  double best_distance = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < keys_.size(); ++i) {
+    double d = 0;
+    for (std::size_t j = 0; j < kStateFeatures; ++j) d += (keys_[i][j] - q[j]) * (keys_[i][j] - q[j]);
+    if (d < best_distance) {
+      best_distance = d;
+      best = i;
+    }
+  }
+  return best;
+}
+
+WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model) const {
+  WarmStartOutcome out;
+  out.snapshot = nearest(state);
+  dem::DemCell cell = model.cell_from(snapshots_[out.snapshot].cell);
+  // Quasi-static: the servo moves the cell at inertial number I at the target's pressure, and an
+  // error of that pressure drives it at full rate.
+  const double pressure = surrogate::effective_pressure(state.stress, constants_);
+  dem::StressServoSettings servo;
+  servo.tolerance = settings_.stress_tolerance;
+  servo.stress_scale = pressure;
+  servo.max_rate = settings_.servo_inertial_number * std::sqrt(pressure / constants_.density) / constants_.diameter;
+  servo.dt = cell.time_step(model.settings().substepping.q_t);
+  servo.max_steps = settings_.max_servo_steps;
+  // The MPM sees the symmetric part of a cell's stress (plane_stress_of); so does the servo.
+  out.servo = dem::servo_to_stress(cell, 0.5 * (state.stress + state.stress.transpose()), servo);
+  if (out.servo.converged) out.cell.emplace(std::move(cell));
+  return out;
+}
+
+}  // namespace grainbank::mpm

@@ -1,0 +1,69 @@
+// A live fallback that starts in the right state (issue 13, item 3): when a surrogate point goes
+// live, its cell is not rebuilt by replaying the point's whole history (a cost that grows with the
+// run) but copied from the stored cell whose state is nearest to the point's, then brought to the
+// point's stress by the engine's stress servo (dem_sampler/cell/stress_servo.hpp) before it is
+// coupled.
+//
+// Promises:
+// - nearest() compares states on the state part of the surrogate's key: ln(p/p_ref), η cos 3θ,
+//   η sin 3θ, φ, Z and D (state_features.hpp), each difference divided by the surrogate's length
+//   scale of that feature, so "near" means what the surrogate's own fit found to matter. Ties go to
+//   the earlier snapshot. Deterministic and safe from any number of threads.
+// - start() copies that cell and servos it at a quasi-static rate (inertial number
+//   servo_inertial_number at the target's pressure) until its windowed mean stress is within
+//   `stress_tolerance` of the point's in every component. The cell keeps the snapshot's φ, Z and D.
+//   When the servo does not converge within max_servo_steps the start reports failure and the
+//   caller falls back to the exact replay.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <vector>
+
+#include "dem_sampler/cell/stress_servo.hpp"
+#include "mpm_solver/dem_laws/live_cell_model.hpp"
+#include "database/surrogate/surrogate_index.hpp"
+
+namespace grainbank::mpm {
+
+// A stored cell and the state it carries (σ, φ, Z, D of the record it was taken after).
+struct StateSnapshot {
+  surrogate::PointState state;
+  dem::CellState cell;
+};
+
+struct StateWarmStartSettings {
+  double stress_tolerance = 0;         // [Pa] > 0, per stress component
+  double servo_inertial_number = 1e-3; // servo rate |L| ≤ I √(p/ρ) / d: quasi-static
+  long max_servo_steps = 20000;        // DEM steps
+};
+
+struct WarmStartOutcome {
+  std::optional<dem::DemCell> cell;  // none when the servo did not converge
+  std::size_t snapshot = 0;          // index of the snapshot it started from
+  dem::StressServoResult servo;
+};
+
+class StateWarmStart {
+ public:
+  // Throws std::invalid_argument on an empty snapshot list or bad settings.
+  StateWarmStart(std::vector<StateSnapshot> snapshots, const surrogate::FeatureConstants& constants,
+                 const surrogate::LengthScales& scales, const StateWarmStartSettings& settings);
+
+  std::size_t size() const { return snapshots_.size(); }
+  const StateSnapshot& snapshot(std::size_t i) const { return snapshots_[i]; }
+  std::size_t nearest(const surrogate::PointState& state) const;
+  WarmStartOutcome start(const surrogate::PointState& state, const LiveCellModel& model) const;
+
+ private:
+  static constexpr std::size_t kStateFeatures = 6;  // the leading, loading-free entries of the key
+  using StateKey = std::array<double, kStateFeatures>;
+  StateKey key(const surrogate::PointState& state) const;
+
+  std::vector<StateSnapshot> snapshots_;
+  std::vector<StateKey> keys_;
+  surrogate::FeatureConstants constants_;
+  surrogate::LengthScales scales_;
+  StateWarmStartSettings settings_;
+};
+
+}  // namespace grainbank::mpm
