@@ -1,5 +1,7 @@
 #include "dem_sampler/cell/stress_servo.hpp"
 
+#include <algorithm>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -20,6 +22,7 @@ void check(const Mat3& target, const StressServoSettings& s) {
   if (!(s.dt > 0)) fail("dt: expected a positive time step [s]");
   if (s.window < 1) fail("window: expected at least one step");
   if (s.max_steps < 1) fail("max_steps: expected at least one step");
+  if (s.patience < 1) fail("patience: expected at least one window");
 }
 
 }  // namespace
@@ -29,7 +32,8 @@ StressServoResult servo_to_stress(DemCell& cell, const Mat3& target, const Stres
   const double gain = settings.max_rate / settings.stress_scale;
   StressServoResult result;
   Mat3 sum = Mat3::Zero();
-  long in_window = 0;
+  long in_window = 0, stalled = 0;
+  double best = std::numeric_limits<double>::infinity();
   while (result.steps < settings.max_steps) {
     // Too little compression (σ above its tension-positive target) shrinks the cell.
     const Mat3 error = target - symmetric_part(cell.stress());
@@ -50,6 +54,9 @@ StressServoResult servo_to_stress(DemCell& cell, const Mat3& target, const Stres
       result.converged = true;
       return result;
     }
+    stalled = result.residual < 0.95 * best ? 0 : stalled + 1;
+    best = std::min(best, result.residual);
+    if (stalled >= settings.patience) return result;
     sum.setZero();
     in_window = 0;
   }

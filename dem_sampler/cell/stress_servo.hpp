@@ -11,8 +11,9 @@
 // - Converged means: the mean of sym σ over the last `window` steps is within `tolerance` of the
 //   target in every component, at a check after at least `window` steps. The instantaneous stress
 //   of a small cell fluctuates with its grains' motion, so single steps are not trusted.
-// - The cell is left where the servo stopped; on failure (max_steps reached) the caller decides
-//   (the result says how far it got).
+// - It gives up after max_steps, or after `patience` windows without progress (a target the packing
+//   cannot carry). The cell is left where the servo stopped; the caller decides what to do with a
+//   failure (the result says how far it got).
 // - Throws std::invalid_argument on a non-finite or asymmetric target or non-positive settings, and
 //   std::runtime_error if the cell's stress becomes non-finite.
 #pragma once
@@ -27,6 +28,9 @@ struct StressServoSettings {
   double dt = 0;            // [s] DEM time step
   long window = 50;         // steps averaged for the check (and between checks)
   long max_steps = 0;
+  // Windows in a row that do not lower the best residual by 5 % before the servo gives up: a target
+  // beyond what the packing can carry (past its yield surface) is chased at full rate forever.
+  long patience = 20;
 };
 
 struct StressServoResult {

@@ -21,7 +21,7 @@ struct CouplingCounters {
   std::uint64_t returned_to_cache = 0;  // live points handed back to the cache (hysteresis)
   std::uint64_t warm_start_increments = 0;  // DEM increments run to bring new live cells to their F
   std::uint64_t warm_start_servo_steps = 0;  // DEM steps of the stress servo of state warm starts
-  std::uint64_t servo_fallbacks = 0;         // state warm starts whose servo failed: replayed instead
+  std::uint64_t servo_unconverged = 0;       // state warm starts whose servo did not reach the point's stress
   double warm_start_seconds = 0;            // wall time of building those cells [s]
   double estimated_error_sum = 0;           // Σ over lookups of the lookup's estimated error [Pa]
   std::uint64_t enriched_paths = 0, enriched_records = 0;  // written to the run's own shard
@@ -29,7 +29,7 @@ struct CouplingCounters {
   CouplingCounters& operator+=(const CouplingCounters& o) {
     hits += o.hits, misses += o.misses, live_updates += o.live_updates, went_live += o.went_live;
     returned_to_cache += o.returned_to_cache, warm_start_increments += o.warm_start_increments;
-    warm_start_servo_steps += o.warm_start_servo_steps, servo_fallbacks += o.servo_fallbacks;
+    warm_start_servo_steps += o.warm_start_servo_steps, servo_unconverged += o.servo_unconverged;
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;
     enriched_paths += o.enriched_paths, enriched_records += o.enriched_records;
     return *this;

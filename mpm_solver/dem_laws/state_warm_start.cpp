@@ -60,7 +60,7 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
   servo.max_steps = settings_.max_servo_steps;
   // The MPM sees the symmetric part of a cell's stress (plane_stress_of); so does the servo.
   out.servo = dem::servo_to_stress(cell, 0.5 * (state.stress + state.stress.transpose()), servo);
-  if (out.servo.converged) out.cell.emplace(std::move(cell));
+  out.cell.emplace(std::move(cell));
   return out;
 }
 

@@ -9,11 +9,13 @@
 //   η sin 3θ, φ, Z and D (state_features.hpp), each difference divided by the surrogate's length
 //   scale of that feature, so "near" means what the surrogate's own fit found to matter. Ties go to
 //   the earlier snapshot. Deterministic and safe from any number of threads.
-// - start() copies that cell and servos it at a quasi-static rate (inertial number
-//   servo_inertial_number at the target's pressure) until its windowed mean stress is within
-//   `stress_tolerance` of the point's in every component. The cell keeps the snapshot's φ, Z and D.
-//   When the servo does not converge within max_servo_steps the start reports failure and the
-//   caller falls back to the exact replay.
+// - start() copies that cell and servos it at inertial number servo_inertial_number (at the target's
+//   pressure) until its windowed mean stress is within `stress_tolerance` of the point's in every
+//   component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
+// - A servo that does not converge (max_servo_steps, or no progress: the point's stress lies beyond
+//   what the packing can carry, e.g. a surrogate state that drifted past the yield surface) leaves
+//   the cell at the nearest stress it could reach; the outcome says so, and the caller keeps that
+//   cell or replays the point's history instead (`replay_unconverged`).
 #pragma once
 #include <cstddef>
 #include <optional>
@@ -35,10 +37,11 @@ struct StateWarmStartSettings {
   double stress_tolerance = 0;         // [Pa] > 0, per stress component
   double servo_inertial_number = 1e-3; // servo rate |L| ≤ I √(p/ρ) / d: quasi-static
   long max_servo_steps = 20000;        // DEM steps
+  bool replay_unconverged = false;     // an unconverged servo: replay the point's history instead
 };
 
 struct WarmStartOutcome {
-  std::optional<dem::DemCell> cell;  // none when the servo did not converge
+  std::optional<dem::DemCell> cell;  // where the servo left it, converged or not
   std::size_t snapshot = 0;          // index of the snapshot it started from
   dem::StressServoResult servo;
 };

@@ -109,8 +109,9 @@ void SurrogateLaw::go_live(Point& p) {
   if (warm_start_ && !before.empty()) {
     WarmStartOutcome outcome = warm_start_->start(p.state, model_);
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
-    if (outcome.cell) p.cell = std::make_unique<dem::DemCell>(std::move(*outcome.cell));
-    else ++p.counters.servo_fallbacks;
+    if (!outcome.servo.converged) ++p.counters.servo_unconverged;
+    if (outcome.servo.converged || !settings_.state_warm_start.replay_unconverged)
+      p.cell = std::make_unique<dem::DemCell>(std::move(*outcome.cell));
   }
   if (!p.cell) {
     p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
@@ -248,7 +249,7 @@ using common::Range;
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
 // (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after",
 // "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
-// "servo_inertial_number"}, and the "substepping" and "q_h" of every DEM-backed law.
+// "servo_inertial_number", "unconverged": "keep" | "replay"}, and the "substepping" and "q_h" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "substepping", "q_h", "fallback"};
 
@@ -259,7 +260,8 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.error_budget = material.number_or("error_budget", s.error_budget, Range::positive());
   s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
-    fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number"});
+    fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
+                          "unconverged"});
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
     if (const auto mode = fallback->find("warm_start")) {
       const std::string name = mode->string();
@@ -270,6 +272,11 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
     if (fallback->has("stress_tolerance")) w.stress_tolerance = fallback->number("stress_tolerance", Range::positive());
     w.max_servo_steps = fallback->integer_or("max_servo_steps", w.max_servo_steps, 1, 1000000000);
     w.servo_inertial_number = fallback->number_or("servo_inertial_number", w.servo_inertial_number, Range::positive());
+    if (const auto unconverged = fallback->find("unconverged")) {
+      const std::string name = unconverged->string();
+      if (name != "keep" && name != "replay") unconverged->fail("expected \"keep\" or \"replay\"");
+      w.replay_unconverged = name == "replay";
+    }
   }
   const JsonNode lib = material.at("library", "a library directory (string)");
   const std::int64_t id = material.at("template", "a template id (integer)").integer(1);

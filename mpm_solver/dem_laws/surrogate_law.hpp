@@ -11,8 +11,9 @@
 //   stored cell nearest in state (the library's snapshots of the template's paths, and the template
 //   itself) brought to the point's stress by the stress servo (state_warm_start.hpp), so its cost
 //   does not grow with the run. The point then carries the cell's state: its own σ (within
-//   stress_tolerance), the snapshot's φ, Z and D. With warm_start "replay", when the servo does not
-//   converge, or on the point's first step, the cell is rebuilt by replaying the point's own
+//   stress_tolerance), the snapshot's φ, Z and D; a servo that does not converge leaves the stress
+//   the packing could reach (or, with unconverged "replay", the point replays). With warm_start
+//   "replay", and on the point's first step, the cell is rebuilt by replaying the point's own
 //   increments from the template (exact: the cell a live-law point would own). A live cell answers
 //   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.

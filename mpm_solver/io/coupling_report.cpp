@@ -42,7 +42,7 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"returned_to_cache", c.returned_to_cache},
                     {"warm_start_increments", c.warm_start_increments},
                     {"warm_start_servo_steps", c.warm_start_servo_steps},
-                    {"servo_fallbacks", c.servo_fallbacks},
+                    {"servo_unconverged", c.servo_unconverged},
                     {"warm_start_seconds", c.warm_start_seconds},
                     {"enriched_paths", c.enriched_paths},
                     {"enriched_records", c.enriched_records}});

@@ -1,6 +1,7 @@
 // The stress servo (dem_sampler/cell/stress_servo.hpp) that brings a warm-started cell to a material
 // point's stress: it reaches an anisotropic, sheared target, the cell then holds that stress at rest
-// (a state, not a transient of the servo), and it reports failure instead of pretending.
+// (a state, not a transient of the servo), and it reports failure instead of pretending, early
+// when the target is beyond what the packing can carry.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -71,6 +72,18 @@ TEST(StressServo, ReportsFailureWhenItRunsOutOfSteps) {
   EXPECT_FALSE(r.converged);
   EXPECT_EQ(r.steps, 60);
   EXPECT_GT(r.residual, s.tolerance);
+}
+
+// A cohesionless packing cannot carry isotropic tension: the servo pulls it apart at full rate
+// without progress, and gives up after `patience` windows rather than at max_steps.
+TEST(StressServo, GivesUpOnAStressThePackingCannotCarry) {
+  ServoCase c;
+  const StressServoSettings s = c.settings();
+  const StressServoResult r = servo_to_stress(c.cell, c.p0 * Mat3::Identity(), s);
+  EXPECT_FALSE(r.converged);
+  EXPECT_LT(r.steps, s.max_steps / 10);
+  EXPECT_GT(r.residual, 0.5 * c.p0);
+  EXPECT_TRUE(c.cell.stress().allFinite());
 }
 
 TEST(StressServo, RefusesBadTargetsAndSettings) {
