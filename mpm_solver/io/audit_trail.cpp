@@ -34,7 +34,9 @@ void AuditTrailRecorder::record(const Solver& solver, double dt) {
   }
 }
 
-void write_audit_trail(const std::filesystem::path& file, const AuditTrail& trail) {
+namespace {
+
+void write_trail_file(const std::filesystem::path& file, const AuditTrail& trail) {
   const h5::Object root = h5::create_file(file);
   h5::write_attribute(root, "start_time", trail.start_time);
   h5::write_attribute(root, "scene", trail.scene);
@@ -58,6 +60,18 @@ void write_audit_trail(const std::filesystem::path& file, const AuditTrail& trai
     h5::write_array(group, "source", source, 0);
   }
   h5::flush(root);
+}
+
+}  // namespace
+
+void write_audit_trail(const std::filesystem::path& file, const AuditTrail& trail) {
+  // Written beside and renamed over: a run into a folder that holds an earlier run's trail replaces
+  // it, as it replaces the other outputs, and a crash mid-write leaves the old one whole.
+  std::filesystem::path partial = file;
+  partial += ".partial";
+  std::filesystem::remove(partial);
+  write_trail_file(partial, trail);
+  std::filesystem::rename(partial, file);
 }
 
 AuditTrail read_audit_trail(const std::filesystem::path& file) {

@@ -58,7 +58,8 @@ class AuditTrailRecorder {
   std::vector<std::int64_t> slot_of_id_;  // point id → index in trail_.points, or -1
 };
 
-// Throw db::StoreError naming the file (and for reads the missing or malformed dataset).
+// Throw db::StoreError naming the file (and for reads the missing or malformed dataset). A trail
+// already in `file` is replaced (atomically: written beside, then renamed over).
 void write_audit_trail(const std::filesystem::path& file, const AuditTrail& trail);
 AuditTrail read_audit_trail(const std::filesystem::path& file);
 

@@ -87,8 +87,7 @@ TEST_F(RunAudit, ALiveRunIsReproducedBitForBitAndACorruptedStepIsFoundExactly) {
   io::TrailStep& step = trail.points[1].steps[17];
   const double norm = std::hypot(step.stress.in_plane.norm(), step.stress.zz);
   step.stress.zz += 0.01 * norm;
-  fs::remove(trail_file);
-  io::write_audit_trail(trail_file, trail);
+  io::write_audit_trail(trail_file, trail);  // replaces the run's trail
   const nlohmann::json corrupted = audit("live");
   EXPECT_NEAR(corrupted["all"]["max"].get<double>(), 0.01, 1e-6);
   std::ifstream csv(dir_.path() / "live" / "audit" / "run_audit_steps.csv");
