@@ -1,6 +1,11 @@
 """The demo (workflows/demo/run_demo.sh) end to end on the tiny column and library, twice: outputs,
-figures and report, then the second run reuses the library."""
-from workflow_test_util import TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+figures and report, then the second run reuses the library. The tiny column runs with the demo's own
+law and settings (workflows/demo/column.json's material)."""
+import json
+
+from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+
+from plotting import scenes  # noqa: E402  (workflow_test_util puts workflows/ on the path)
 
 FIGURES = ["velocity.png", "strain_rate_damage.png", "source.png", "front_height.png", "hit_rate.png",
            "tracked_damage.png", "run_audit_error_vs_time.png", "run_audit_histogram.png"]
@@ -8,7 +13,12 @@ FIGURES = ["velocity.png", "strain_rate_damage.png", "source.png", "front_height
 
 class DemoTest(WorkflowTest):
     def run_demo(self):
-        return run(["sh", WORKFLOWS / "demo" / "run_demo.sh", self.out], DEMO_SCENE=TINY_SCENE, DEMO_PATHS=TINY_PATHS)
+        demo_material = json.loads((WORKFLOWS / "demo" / "column.json").read_text())["materials"][0]
+        scene = self.out / "tiny_demo_scene.json"
+        material = {k: v for k, v in demo_material.items() if k not in ("name", "library", "template")}
+        material["fallback"] = {**material.get("fallback", {}), "start": None}  # the tiny scene's hybrid start
+        scenes.variant(BUILD, TINY_SCENE, scene, law=demo_material["law"], material=material)
+        return run(["sh", WORKFLOWS / "demo" / "run_demo.sh", self.out], DEMO_SCENE=scene, DEMO_PATHS=TINY_PATHS)
 
     def test_outputs_then_reuses_the_library(self):
         first = self.run_demo()
@@ -25,6 +35,7 @@ class DemoTest(WorkflowTest):
         self.assertEqual(report["steps"], 30)  # 0.003 s at the scene's max_time_step 1e-4
         self.assertGreaterEqual(report["library"]["paths"], 2)
         self.assertTrue(0 <= report["hit_rate_of_lookups"] <= 1)
+        self.assertEqual(report["law"], "surrogate")
         self.assertEqual(sorted(report["figures"]), sorted(figures))
         self.assertIn("seed Eq. 5", (self.out / "report.txt").read_text())
         # The audit re-ran the scene's 2 audited points live at each of the 30 steps.

@@ -26,7 +26,9 @@ def summarise(out, timestamps):
     rows = slice(1, None)  # row 0: the initial state, before any lookup
     lookups = series["hits"][rows].sum() + series["misses"][rows].sum()
     point_rows = lookups + series["live_cells"][rows].sum()
+    laws = summary.get("coupling", {}).get("laws", [])
     report = {
+        "law": laws[0]["law"] if laws else "live",
         "points": summary["points"],
         "steps": summary["steps"],
         "final_time_s": summary["final_time"],
@@ -68,7 +70,8 @@ def text(report, figures):
     w = report["wall_time_s"]
     lib = report["library"]
     lines = [
-        "grainbank demo: cohesive column collapse in hybrid mode (cell library + live DEM on misses)",
+        f"grainbank demo: cohesive column collapse, law {report['law']} (cell library; live DEM cells where "
+        "it is not trusted)",
         f"  material points {report['points']}, {report['steps']} MPM steps to t = {report['final_time_s']:.3g} s "
         f"on {report['threads']} thread(s)",
         f"  library: {lib['templates']} template(s), {lib['paths']} paths, {lib['records']} records",

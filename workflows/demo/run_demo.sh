@@ -1,11 +1,11 @@
 #!/bin/sh
 # The default demo (README, "The demo"): a small cohesive cell library, a cohesive column collapse
-# against it in `hybrid` mode, the audit of that run against live cells, PNG figures and a short report.
+# against it with the state-keyed `surrogate` law, the audit of that run against live cells, PNG figures and a short report.
 # Usage: run_demo.sh [OUT]   (default: $GRAINBANK_OUT/demo, i.e. build/out/demo; ./run.sh demo passes demo_out)
 # Environment: workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS),
 #              DEMO_SCENE and DEMO_PATHS (other inputs, e.g. the tiny ones of the tests).
-# A second run reuses OUT/lib: `prepare` finds its template, `sample` finds every path registered and
-# done, and the hybrid run indexes the paths the previous runs added (enrichment).
+# A second run reuses OUT/lib: `prepare` finds its template and `sample` finds every path registered
+# and done.
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 . "$here/../env.sh"
@@ -21,7 +21,7 @@ echo "== cell library $out/lib"
 "$build/dem_sampler/dem_sampler" sample "$paths" --library "$out/lib" --threads "$threads" 2> "$out/sample.log"
 library_done=$(seconds)
 
-echo "== column collapse (hybrid) -> $out/run"
+echo "== column collapse -> $out/run"
 rm -rf "$out/run"
 "$build/mpm_solver/mpm_solver" "$scene" --library "$out/lib" --out "$out/run" --threads "$threads" > /dev/null
 "$build/database/celldb" info "$out/lib" --json > "$out/library.json"
