@@ -1,6 +1,9 @@
 #include "dem_sampler/sampler/paths_input.hpp"
 
+#include <numbers>
+
 #include "dem_sampler/sampler/path_generator.hpp"
+#include "dem_sampler/sampler/state_probes.hpp"
 
 namespace grainbank::sampler {
 namespace {
@@ -99,12 +102,56 @@ std::vector<PathPlan> read_generator(const JsonNode& entry, const Defaults& defa
   return generate_paths(g);
 }
 
+// A non-empty array of numbers, each in `range`, times `scale`.
+std::vector<double> number_list(const JsonNode& entry, const char* key, const char* expected, const Range& range,
+                                double scale = 1) {
+  const JsonNode list = entry.at(key, expected);
+  const std::size_t n = list.array_size(expected);
+  if (n == 0) list.fail_expected(expected);
+  std::vector<double> values;
+  for (std::size_t k = 0; k < n; ++k) values.push_back(scale * list.at(k).number(range));
+  return values;
+}
+
+std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& defaults) {
+  entry.allow_only({"bases", "depths", "base_rate", "psi", "beta", "rates", "probe_strain", "record_interval",
+                    "snapshot_interval", "substepping"});
+  const Defaults d = entry_settings(entry, defaults);
+  ProbeSpec p;
+  p.record_interval = *d.record_interval;
+  p.snapshot_interval = d.snapshot_interval;
+  p.substepping = d.substepping;
+  constexpr const char* kBases = "a non-empty array of \"compression\", \"shear\" or \"extension\"";
+  const JsonNode bases = entry.at("bases", kBases);
+  const std::size_t n = bases.array_size(kBases);
+  if (n == 0) bases.fail_expected(kBases);
+  for (std::size_t k = 0; k < n; ++k) {
+    const JsonNode item = bases.at(k);
+    try {
+      p.bases.push_back(probe_base_from(item.string()));
+    } catch (const std::invalid_argument&) {
+      item.fail_expected("\"compression\", \"shear\" or \"extension\"");
+    }
+  }
+  constexpr double kDegree = std::numbers::pi / 180;
+  const double max_psi = kMaxPlaneStrainPsi / kDegree;
+  p.depths = number_list(entry, "depths", "a non-empty array of strains > 0", Range::positive());
+  p.base_rate = entry.number("base_rate", Range::positive());
+  p.psi = number_list(entry, "psi", "a non-empty array of angles [°] within ±67.79 (plane strain)",
+                      Range::between(-max_psi, max_psi, false, false), kDegree);
+  p.beta = number_list(entry, "beta", "a non-empty array of angles [°]", Range::between(-180, 180, false, false),
+                       kDegree);
+  p.rates = number_list(entry, "rates", "a non-empty array of rates > 0 [1/s]", Range::positive());
+  p.probe_strain = entry.number("probe_strain", Range::positive());
+  return probe_paths(p);
+}
+
 }  // namespace
 
 std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
   const nlohmann::json document = common::load_json_file(file);
   const JsonNode root(document, file.string());
-  root.allow_only({"paths", "generators", "record_interval", "snapshot_interval", "substepping"});
+  root.allow_only({"paths", "generators", "probes", "record_interval", "snapshot_interval", "substepping"});
   const Defaults defaults = read_defaults(root);
   std::vector<PathPlan> plans;
   if (const auto paths = root.find("paths")) {
@@ -118,7 +165,14 @@ std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
       plans.insert(plans.end(), generated.begin(), generated.end());
     }
   }
-  if (plans.empty()) root.fail("no paths: give a non-empty \"paths\" or \"generators\" array");
+  if (const auto probes = root.find("probes")) {
+    const std::size_t n = probes->array_size("an array of state probes {bases, depths, psi, beta, rates, ...}");
+    for (std::size_t k = 0; k < n; ++k) {
+      std::vector<PathPlan> probed = read_probes(probes->at(k), defaults);
+      plans.insert(plans.end(), probed.begin(), probed.end());
+    }
+  }
+  if (plans.empty()) root.fail("no paths: give a non-empty \"paths\", \"generators\" or \"probes\" array");
   return plans;
 }
 

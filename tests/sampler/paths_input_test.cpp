@@ -51,7 +51,7 @@ TEST(PathsInput, ErrorsNameTheJsonPath) {
   EXPECT_EQ(error_of(R"({"record_interval": 1, "generators": [{"count": 2, "rate": {"min": 1, "max": 2},
                          "strain": 0.1, "changes": ["flip"]}]})"),
             "/generators/0/changes/0: expected \"reversal\", \"rotation\" or \"fresh\", got a string (\"flip\")");
-  EXPECT_EQ(error_of(R"({"record_interval": 1})"), "/: no paths: give a non-empty \"paths\" or \"generators\" array");
+  EXPECT_EQ(error_of(R"({"record_interval": 1})"), "/: no paths: give a non-empty \"paths\", \"generators\" or \"probes\" array");
   EXPECT_NE(error_of(R"({"record_interval": 1, "pahts": []})").find("unknown key"), std::string::npos);
 }
 
