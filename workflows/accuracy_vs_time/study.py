@@ -13,10 +13,8 @@ library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a
 by every library run. Runs on the scene's own library (variants.py, "enriched") use OUT/lib_enriched:
 the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
 Runs already finished in OUT/runs/ are kept (delete them to rerun).
-Errors against the reference, at their common output times: front = worst relative runout error
-(rows with a reference runout above 1 cm), stress = mean relative L2 of the in-plane stress field
-(points matched by id, by nearest position when the discretisation differs), deposit = RMS difference
-of the free-surface height at the last output [m].
+Errors against the reference, at their common output times (plotting/run_compare.py): front, final
+runout, stress field and deposit profile.
 A run that stops before the end (its error in the column `failed`) is compared up to where it stopped.
 Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
 """
@@ -27,12 +25,10 @@ import shutil
 import sys
 from pathlib import Path
 
-import numpy as np
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, flow, scenes, tables, vtu  # noqa: E402  (after the path set-up)
-from plotting.timing import timed, timed_run  # noqa: E402
+from plotting import environment, run_compare, scenes, tables, vtu  # noqa: E402  (after the path set-up)
+from plotting.timing import timed  # noqa: E402
 import variants  # noqa: E402
 
 WORKFLOWS = HERE.parent
@@ -82,41 +78,8 @@ def write_scene(name, spec, library, build, args):
 
 def run(name, spec, library, build, args):
     folder = args.out / "runs" / name
-    if (folder / "study_run.json").exists():
-        return json.loads((folder / "study_run.json").read_text())
     scene_file = write_scene(name, spec, library, build, args)
-    # A run that stops (e.g. a point thrown out of the grid) is a result too: its error is kept and its
-    # outputs up to the stop are compared.
-    wall, cpu, error = timed_run([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder, "--threads",
-                                  args.threads])
-    result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
-    (folder / "study_run.json").write_text(json.dumps(result) + "\n")
-    return result
-
-
-def stress_error(snapshot, reference):
-    if len(snapshot) == len(reference) and (snapshot.fields["id"] == reference.fields["id"]).all():
-        return flow.stress_error(snapshot, reference)
-    return flow.stress_error_nearest(snapshot, reference)
-
-
-def errors(folder, reference_folder):
-    series, ref_series = (tables.read_csv(f / "series.csv") for f in (folder, reference_folder))
-    snaps = {round(s.time, 9): s for s in vtu.read_run(folder)}
-    ref_snaps = {round(s.time, 9): s for s in vtu.read_run(reference_folder)}
-    common = sorted(set(snaps) & set(ref_snaps))[1:]  # the initial state is the same by construction
-    if not common:
-        raise ValueError(f"{folder}: no output time in common with the reference {reference_folder}")
-    final, ref_final = snaps[common[-1]], ref_snaps[common[-1]]
-    # Columns of two reference point spacings across every x either run reaches.
-    width = 2 * ref_final.spacing()
-    x = np.concatenate([final.xy[:, 0], ref_final.xy[:, 0]])
-    bins = np.arange(x.min(), x.max() + 2 * width, width)
-    return {
-        "front_rel_err": flow.front_error(series, ref_series),
-        "stress_rel_l2": float(np.mean([stress_error(snaps[t], ref_snaps[t]) for t in common])),
-        "deposit_rms_m": flow.profile_error(final, ref_final, bins),
-    }
+    return run_compare.timed_scene_run(build, scene_file, folder, args.threads)
 
 
 def main():
@@ -163,7 +126,7 @@ def main():
                      "points": len(vtu.read_vtu(vtu.read_pvd(folder / "points.pvd")[0][1])),
                      "steps": int(series["step"][-1]),
                      "wall_s": costs[name]["wall_s"], "cpu_s": costs[name]["cpu_s"],
-                     **errors(folder, reference), "failed": costs[name].get("failed", "")})
+                     **run_compare.errors(folder, reference), "failed": costs[name].get("failed", "")})
     tables.write_csv(args.out / "results.csv", rows)
     tables.write_markdown(args.out / "results.md", rows)
     (args.out / "study.json").write_text(json.dumps({"variants": args.variants, "scene": str(args.scene),

@@ -1,0 +1,63 @@
+"""Running a scene for a study, timed and resumable, and its errors against a reference run of the
+same scene: front = worst relative runout error (rows with a reference runout above 1 cm), runout =
+relative error of the final runout, stress = mean relative L2 of the in-plane stress field (points
+matched by id, by nearest position when the discretisation differs), deposit = RMS difference of the
+free-surface height at the last common output [m]."""
+import json
+from pathlib import Path
+
+import numpy as np
+
+from plotting import flow, tables, vtu
+from plotting.timing import timed_run
+
+
+def timed_scene_run(build, scene_file, folder, threads):
+    """Runs mpm_solver on `scene_file` into `folder` unless a finished run is there; returns
+    {wall_s, cpu_s, failed}. A run that stops (e.g. a point thrown out of the grid) is a result too:
+    its error message is kept and its outputs up to the stop are compared."""
+    folder = Path(folder)
+    if (folder / "study_run.json").exists():
+        return json.loads((folder / "study_run.json").read_text())
+    wall, cpu, error = timed_run([Path(build) / "mpm_solver" / "mpm_solver", scene_file, "--out", folder,
+                                  "--threads", threads])
+    result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
+    (folder / "study_run.json").write_text(json.dumps(result) + "\n")
+    return result
+
+
+def stress_error(snapshot, reference):
+    if len(snapshot) == len(reference) and (snapshot.fields["id"] == reference.fields["id"]).all():
+        return flow.stress_error(snapshot, reference)
+    return flow.stress_error_nearest(snapshot, reference)
+
+
+def final_runout_error(series, reference):
+    """|runout − reference runout| / reference runout at the last row they share (0 when the
+    reference has not moved)."""
+    ref = dict(zip(np.round(reference["t"], 9), flow.runout(reference)))
+    common = [(t, r) for t, r in zip(np.round(series["t"], 9), flow.runout(series)) if t in ref]
+    if not common or ref[common[-1][0]] <= 0:
+        return 0.0
+    t, r = common[-1]
+    return float(abs(r - ref[t]) / ref[t])
+
+
+def errors(folder, reference_folder):
+    series, ref_series = (tables.read_csv(Path(f) / "series.csv") for f in (folder, reference_folder))
+    snaps = {round(s.time, 9): s for s in vtu.read_run(folder)}
+    ref_snaps = {round(s.time, 9): s for s in vtu.read_run(reference_folder)}
+    common = sorted(set(snaps) & set(ref_snaps))[1:]  # the initial state is the same by construction
+    if not common:
+        raise ValueError(f"{folder}: no output time in common with the reference {reference_folder}")
+    final, ref_final = snaps[common[-1]], ref_snaps[common[-1]]
+    # Columns of two reference point spacings across every x either run reaches.
+    width = 2 * ref_final.spacing()
+    x = np.concatenate([final.xy[:, 0], ref_final.xy[:, 0]])
+    bins = np.arange(x.min(), x.max() + 2 * width, width)
+    return {
+        "front_rel_err": flow.front_error(series, ref_series),
+        "runout_rel_err": final_runout_error(series, ref_series),
+        "stress_rel_l2": float(np.mean([stress_error(snaps[t], ref_snaps[t]) for t in common])),
+        "deposit_rms_m": flow.profile_error(final, ref_final, bins),
+    }
