@@ -1,6 +1,6 @@
 """Running a scene for a study, timed and resumable, and its errors against a reference run of the
 same scene: front = worst relative runout error (rows with a reference runout above 1 cm), runout =
-relative error of the final runout, stress = mean relative L2 of the in-plane stress field (points
+relative error of the final runout (None when the reference ran out less than 1 cm), stress = mean relative L2 of the in-plane stress field (points
 matched by id, by nearest position when the discretisation differs), deposit = RMS difference of the
 free-surface height at the last common output [m]."""
 import json
@@ -32,13 +32,13 @@ def stress_error(snapshot, reference):
     return flow.stress_error_nearest(snapshot, reference)
 
 
-def final_runout_error(series, reference):
-    """|runout − reference runout| / reference runout at the last row they share (0 when the
-    reference has not moved)."""
+def final_runout_error(series, reference, min_runout=0.01):
+    """|runout − reference runout| / reference runout at the last row they share; None when the
+    reference runout is below `min_runout` [m] there (a ratio of noise over a tiny number)."""
     ref = dict(zip(np.round(reference["t"], 9), flow.runout(reference)))
     common = [(t, r) for t, r in zip(np.round(series["t"], 9), flow.runout(series)) if t in ref]
-    if not common or ref[common[-1][0]] <= 0:
-        return 0.0
+    if not common or ref[common[-1][0]] < min_runout:
+        return None
     t, r = common[-1]
     return float(abs(r - ref[t]) / ref[t])
 

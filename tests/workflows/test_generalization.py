@@ -1,0 +1,39 @@
+"""The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
+column as the one held-out scene, its four runs, summary.json with the per-scene fields, the table and
+the figure; and the live reference is deterministic: its scene run again gives no error at all."""
+import json
+import math
+
+from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
+
+from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflows/ on the path)
+
+
+class GeneralizationTest(WorkflowTest):
+    def test_smoke_benchmark(self):
+        run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1"])
+        summary = self.assert_json_fields(self.out / "summary.json", ["paths", "end_s", "libraries_cpu_s", "scenes"])
+        self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
+        scene = summary["scenes"]["aspect_1_bond_1"]
+        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):
+            self.assertIn(key, scene)
+        self.assertEqual(sorted(scene["runs"]), ["hybrid", "live", "live_seed", "surrogate"])
+        for name, r in scene["runs"].items():
+            self.assertEqual(r["failed"], "", name)
+            self.assertTrue(math.isfinite(r["cpu_s"]) and r["cpu_s"] > 0, name)
+            self.assertTrue(0 <= r["live_fraction"] <= 1, name)
+            self.assertTrue(math.isfinite(r["stress_rel_l2"]), name)
+        self.assertEqual(scene["runs"]["live"]["live_fraction"], 1.0)
+        self.assertLess(scene["runs"]["surrogate"]["live_fraction"], 1.0)
+        # Another packing seed is another run: its stress field differs from the reference's.
+        self.assertGreater(scene["runs"]["live_seed"]["stress_rel_l2"], 0.0)
+        self.assertIn("| aspect_1_bond_1 | surrogate |", (self.out / "table.md").read_text())
+        self.assert_png(self.out / "generalization.png")
+
+        again = self.out / "live_again"
+        run([BUILD / "mpm_solver" / "mpm_solver", self.out / "scenes" / "aspect_1_bond_1_live.json", "--out", again,
+             "--threads", "1"])
+        errors = run_compare.errors(again, self.out / "runs" / "aspect_1_bond_1" / "live")
+        self.assertIn(errors.pop("runout_rel_err"), (None, 0.0))
+        self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "deposit_rms_m": 0.0})
+        self.assertTrue(json.loads((again / "summary.json").read_text())["final_time"] > 0)

@@ -1,0 +1,186 @@
+#!/usr/bin/python3
+"""Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
+
+  study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--end T] [--gate T]
+           [--threads N] [--build DIR] [--smoke]
+
+The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
+default workflows/demo/paths.json; workflows/precompute/states.json adds state probes): no run of any
+test scene is in it, and no run writes to it (the hybrid law runs with enrich off, the surrogate law
+learns in memory only), so the runs cannot learn from one another.
+Held-out scenes: the demo's cohesive column (workflows/demo/column.json, 0.4 m wide) at height/width
+`--aspects` and with the demo cell's bonds (tension and shear strength) times each of `--bonds`; each
+bond strength is its own template and library. The gate opens at `--gate` and the scene ends at
+`--end`.
+Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
+seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
+`surrogate` (the state key, its material keys from surrogate.json beside this script).
+Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
+point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
+final runout, stress field, deposit profile).
+Writes OUT/summary.json (per scene: the surrogate's cpu_ratio_to_live, live_fraction,
+runout_rel_error, and noise_floor = live_seed's runout_rel_error; every run's figures under "runs"),
+OUT/table.md and OUT/generalization.png. Runs already finished in OUT/runs/ are kept.
+--smoke: one scene of the tiny test column (tests/workflows), to 0.01 s, for CI.
+"""
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+from plotting import environment, run_compare, scenes, tables  # noqa: E402  (after the path set-up)
+from plotting.timing import timed  # noqa: E402
+
+WORKFLOWS = HERE.parent
+ROOT = WORKFLOWS.parent
+CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
+HYBRID = {"lookup": {"k": 4, "tolerance": 10.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}},
+          "fallback": {"start": "warm_start", "return_after": 5}, "enrich": False}
+RUNS = ("live", "live_seed", "hybrid", "surrogate")
+SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
+
+
+def cell_file(args, bond, seed_offset):
+    cell = json.loads(CELL.read_text())
+    for key in ("tensile_strength", "shear_strength"):
+        cell["material"]["bond"][key] *= bond
+    cell["preparation"]["seed"] += seed_offset
+    out = args.out / "cells" / f"bond_{bond:g}{'_seed' if seed_offset else ''}.json"
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(cell, indent=2) + "\n")
+    return out
+
+
+def libraries(args, build, bond):
+    """The generic library of the bond strength (template and sampled paths) and the other seed's
+    (template only: the live law needs no paths)."""
+    dem_sampler = build / "dem_sampler" / "dem_sampler"
+    generic, seeded = args.out / f"lib_bond_{bond:g}", args.out / f"lib_bond_{bond:g}_seed"
+    _, cpu = timed([dem_sampler, "prepare", cell_file(args, bond, 0), "--library", generic])
+    _, sample_cpu = timed([dem_sampler, "sample", args.paths, "--library", generic, "--threads", args.threads])
+    timed([dem_sampler, "prepare", cell_file(args, bond, SEED_OFFSET), "--library", seeded])
+    return {"generic": generic, "seed": seeded, "cpu_s": cpu + sample_cpu}
+
+
+def column_settings(base, aspect, args):
+    """The base scene's column (its first region) with height = aspect × width, its gates as tall, the
+    grid tall enough for it, the gate opened at --gate and the end at --end."""
+    scene = json.loads(Path(base).read_text())
+    (x0, y0), (x1, _) = scene["regions"][0]["rectangle"]["min"], scene["regions"][0]["rectangle"]["max"]
+    top = y0 + aspect * (x1 - x0)
+    grid = scene["grid"]
+    rows = math.ceil((top - grid["origin"][1]) / grid["cell_size"]) + 3  # room above the column
+    settings = {"/regions/0/rectangle/max": [x1, top], "/grid/cells": [grid["cells"][0], rows],
+                "/time/end": args.end, "/tracked_points": []}
+    for k, obstacle in enumerate(scene["obstacles"]):
+        (ax, ay), (bx, by) = obstacle["line"]
+        if ax == bx:  # a gate or wall: as tall as the column
+            settings[f"/obstacles/{k}/line"] = [[ax, ay], [bx, top]]
+            if "remove_at" in obstacle:
+                settings[f"/obstacles/{k}/remove_at"] = args.gate
+    return settings
+
+
+def run_scene(name, settings, libs, build, args):
+    surrogate = json.loads((HERE / "surrogate.json").read_text())
+    specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
+             "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate)}
+    # The scene with live cells and no key of any other law, so that each run's keys are its own
+    # (a merge would keep, e.g., the base's fallback keys of another law).
+    folder = args.out / "scenes"
+    folder.mkdir(parents=True, exist_ok=True)
+    bare = folder / f"{name}.json"
+    scenes.variant(build, args.scene, bare, "live", None, {"fallback": None}, settings)
+    costs = {}
+    for run in RUNS:
+        law, library, material = specs[run]
+        scene_file = folder / f"{name}_{run}.json"
+        scenes.variant(build, bare, scene_file, law, library, material)
+        costs[run] = run_compare.timed_scene_run(build, scene_file, args.out / "runs" / name / run, args.threads)
+        print(f"{name} {run}: {costs[run]['cpu_s']:.1f} s CPU{' (' + costs[run]['failed'] + ')' if costs[run]['failed'] else ''}",
+              flush=True)
+    return costs
+
+
+def live_fraction(folder, law):
+    if law == "live":
+        return 1.0
+    coupling = json.loads((folder / "summary.json").read_text())["coupling"]
+    return sum(law["live_point_steps"] for law in coupling["laws"]) / coupling["point_steps"]
+
+
+def measure(name, costs, args):
+    runs = {}
+    reference = args.out / "runs" / name / "live"
+    for run in RUNS:
+        folder = args.out / "runs" / name / run
+        runs[run] = {"cpu_s": costs[run]["cpu_s"], "cpu_ratio_to_live": costs[run]["cpu_s"] / costs["live"]["cpu_s"],
+                     "live_fraction": live_fraction(folder, "live" if run.startswith("live") else run),
+                     **run_compare.errors(folder, reference), "failed": costs[run]["failed"]}
+    s = runs["surrogate"]
+    return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
+            "runout_rel_error": s["runout_rel_err"], "noise_floor": runs["live_seed"]["runout_rel_err"],
+            "runs": runs}
+
+
+def plot(summary, out):
+    from plotting.figures import DPI, plt  # matplotlib only for the figure
+    names = list(summary["scenes"])
+    panels = [("cpu_ratio_to_live", "CPU relative to live", True), ("runout_rel_err", "final runout error vs live", False),
+              ("stress_rel_l2", "stress field error vs live", False)]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4.2), layout="constrained")
+    width = 0.8 / len(RUNS)
+    for ax, (key, label, log) in zip(axes, panels):
+        for i, run in enumerate(RUNS):
+            values = [summary["scenes"][n]["runs"][run][key] or 0.0 for n in names]  # None: not measured
+            ax.bar([k + (i - 1.5) * width for k in range(len(names))], values, width, label=run)
+        ax.set_xticks(range(len(names)), names, rotation=30, ha="right")
+        ax.set_title(label)
+        if log:
+            ax.set_yscale("log")
+    axes[0].legend()
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("generalization"))
+    parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
+    parser.add_argument("--aspects", default="0.5,1,2")
+    parser.add_argument("--bonds", default="1,1.5")
+    parser.add_argument("--end", type=float, default=0.15)
+    parser.add_argument("--gate", type=float, default=0.05)
+    parser.add_argument("--threads", type=int, default=environment.threads())
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
+    parser.add_argument("--smoke", action="store_true")
+    args = parser.parse_args()
+    args.scene = WORKFLOWS / "demo" / "column.json"
+    aspects, bonds = [float(a) for a in args.aspects.split(",")], [float(b) for b in args.bonds.split(",")]
+    if args.smoke:
+        args.scene, args.paths = ROOT / "tests" / "workflows" / "tiny_column.json", ROOT / "tests" / "workflows" / "tiny_paths.json"
+        aspects, bonds, args.end, args.gate = [1.0], [1.0], 0.01, 0.002
+    args.out.mkdir(parents=True, exist_ok=True)
+    build = args.build.resolve()
+    summary = {"paths": str(args.paths), "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
+               "libraries_cpu_s": {}, "scenes": {}}
+    for bond in bonds:
+        libs = libraries(args, build, bond)
+        summary["libraries_cpu_s"][f"{bond:g}"] = libs["cpu_s"]
+        for aspect in aspects:
+            name = f"aspect_{aspect:g}_bond_{bond:g}"
+            costs = run_scene(name, column_settings(args.scene, aspect, args), libs, build, args)
+            summary["scenes"][name] = measure(name, costs, args)
+    (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
+    rows = [{"scene": name, "run": run, **{k: v for k, v in s["runs"][run].items()}}
+            for name, s in summary["scenes"].items() for run in RUNS]
+    tables.write_markdown(args.out / "table.md", rows)
+    plot(summary, args.out / "generalization.png")
+    print((args.out / "table.md").read_text(), end="")
+
+
+if __name__ == "__main__":
+    main()
