@@ -17,9 +17,10 @@ std::string run_shard_name() {
 }
 }  // namespace
 
-Enrichment::Enrichment(LibraryLink& link, int snapshot_interval)
+Enrichment::Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget)
     : link_(link),
       snapshot_interval_(snapshot_interval),
+      snapshot_budget_(snapshot_budget),
       shard_name_(run_shard_name()),
       lock_(link.locked([](db::Library& library) { return library.directory(); })) {
   writer_ = link_.locked([&](db::Library& library) {
@@ -45,7 +46,11 @@ void Enrichment::add(RunPath& path, const dem::DemCell& cell, const dem::Mat3& L
   const std::int64_t index = path.records++;
   if (snapshot_interval_ > 0 && (index + 1) % snapshot_interval_ == 0) {
     commit(path);
-    link_.locked([&](db::Library&) { writer_->add_snapshot(path.id, index, db::StoredCell{cell.state(), cell.skin()}); });
+    link_.locked([&](db::Library&) {
+      if (snapshot_budget_ != kUnlimited && snapshots_written_ >= snapshot_budget_) return;
+      writer_->add_snapshot(path.id, index, db::StoredCell{cell.state(), cell.skin()});
+      ++snapshots_written_;
+    });
   } else if (path.pending.size() >= kCommitBatch) {
     commit(path);
   }

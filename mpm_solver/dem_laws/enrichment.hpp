@@ -9,7 +9,9 @@
 //   lock makes the constructor throw db::StoreError naming the holder.
 // - A path is registered and started when its point turns live, gets one record per MPM step of
 //   its live cell (committed every kCommitBatch records and at each snapshot, in the store's usual
-//   commit order) and a snapshot every `snapshot_interval` records, and becomes `done` when its
+//   commit order) and a snapshot every `snapshot_interval` records while the run has written fewer
+//   than `snapshot_budget` snapshots in all (issue 13: enrichment must not fill the disk; snapshots
+//   are what fills it, records are small), and becomes `done` when its
 //   point returns to the cache or the run finishes. A crash leaves it `running` (merge skips it)
 //   until the next writer takes the lock: then it becomes `done` with its committed records
 //   (db::reset_running_paths).
@@ -41,7 +43,9 @@ class Enrichment {
  public:
   static constexpr std::size_t kCommitBatch = 32;
 
-  Enrichment(LibraryLink& link, int snapshot_interval);
+  static constexpr long kUnlimited = -1;
+  Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget = kUnlimited);
+  long snapshots_written() const { return snapshots_written_; }
   const std::string& shard_name() const { return shard_name_; }
 
   // Registers and starts a path on the link's template; `origin` says where its cell came from.
@@ -56,6 +60,8 @@ class Enrichment {
 
   LibraryLink& link_;
   int snapshot_interval_;
+  long snapshot_budget_;
+  long snapshots_written_ = 0;  // under the link's lock
   std::string shard_name_;
   db::SamplerLock lock_;
   std::unique_ptr<db::ShardWriter> writer_;

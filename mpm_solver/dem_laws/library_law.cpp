@@ -20,7 +20,7 @@ LibraryLaw::LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings set
     throw std::invalid_argument("the cache law needs a library with records (it has none; use hybrid or sample paths)");
   // Only a law that runs live cells has responses to give back.
   if (settings_.enrich && settings_.fallback != Fallback::none)
-    enrichment_ = std::make_unique<Enrichment>(*link_, settings_.snapshot_interval);
+    enrichment_ = std::make_unique<Enrichment>(*link_, settings_.snapshot_interval, settings_.snapshot_budget);
 }
 
 LibraryLaw::~LibraryLaw() {

@@ -39,6 +39,7 @@ struct LibraryLawSettings {
   int return_after = 0;            // steps inside the tolerance before a live point is cached again
   bool enrich = false;             // write live responses to the run's own shard
   int snapshot_interval = 25;      // of enriched paths: a snapshot every this many records
+  long snapshot_budget = Enrichment::kUnlimited;  // snapshots the run may add in all
   LiveDemSettings live;            // of the live cells (and of the wave speed of cached points)
 };
 

@@ -19,7 +19,7 @@ using common::Range;
 constexpr std::string_view kCacheKeys[] = {"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"};
 constexpr std::string_view kHybridKeys[] = {"name",   "law",         "library", "template", "cell",
                                             "lookup", "substepping", "q_h",     "fallback", "enrich",
-                                            "snapshot_interval"};
+                                            "snapshot_interval", "snapshot_budget"};
 
 // "lookup": {"k", "tolerance", "scales": {"strain", "rate", "damage"}}; the scales replace the
 // library's key scales for this run: what "a different state" means here.
@@ -37,7 +37,7 @@ std::optional<db::KeyScales> read_lookup(const JsonNode& material, lookup::Looku
 }
 
 // "fallback": {"start": "warm_start" | "replay", "max_drive_strain", "return_after"}, "enrich",
-// "snapshot_interval": how a missed point turns live and what its cell gives back.
+// "snapshot_interval", "snapshot_budget": how a missed point turns live and what its cell gives back.
 void read_fallback(const JsonNode& material, LibraryLawSettings& s) {
   s.fallback = Fallback::warm_start;
   if (const auto fb = material.find("fallback")) {
@@ -52,6 +52,7 @@ void read_fallback(const JsonNode& material, LibraryLawSettings& s) {
   }
   s.enrich = material.boolean_or("enrich", true);
   s.snapshot_interval = static_cast<int>(material.integer_or("snapshot_interval", s.snapshot_interval, 0, 1000000000));
+  s.snapshot_budget = static_cast<long>(material.integer_or("snapshot_budget", s.snapshot_budget, 0, 1000000000000));
 }
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene, bool hybrid) {

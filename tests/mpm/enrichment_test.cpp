@@ -141,5 +141,34 @@ TEST(Enrichment, ACellDrivenAlongASamplerPathStoresTheSamplersRecords) {
   EXPECT_GT(expected.back().F(0, 1), 0);  // the cell was sheared
 }
 
+// A run's snapshot budget caps the snapshots it adds, whatever the interval asks; every record of
+// every path is still written.
+TEST(Enrichment, ARunAddsAtMostItsSnapshotBudget) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  LibraryLink link(dir, id, nullptr);
+  const auto snapshot_count = [&] { return link.locked([](db::Library& l) { return l.catalogue().snapshots().size(); }); };
+  const std::size_t before = snapshot_count();
+  constexpr long kBudget = 3;
+  constexpr int kIncrements = 4;
+  std::vector<std::int64_t> paths;
+  {
+    Enrichment enrichment(link, 1, kBudget);  // a snapshot after every record, were it not for the budget
+    dem::DemCell cell = stored_template(dir, id);
+    dem::Mat3 L = dem::Mat3::Zero();
+    L(0, 1) = 1;
+    for (int p = 0; p < 2; ++p) {
+      RunPath path = enrichment.start({{"start", "template"}});
+      paths.push_back(path.id);
+      for (int k = 0; k < kIncrements; ++k) enrichment.add(path, cell, L, cell.measures().stress);
+      enrichment.finish(path);
+    }
+    EXPECT_EQ(enrichment.snapshots_written(), kBudget);
+  }
+  EXPECT_EQ(snapshot_count(), before + kBudget);
+  for (std::int64_t path : paths)
+    EXPECT_EQ(link.locked([&](db::Library& l) { return l.records(path).size(); }), static_cast<std::size_t>(kIncrements));
+}
+
 }  // namespace
 }  // namespace grainbank::mpm
