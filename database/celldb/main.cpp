@@ -9,6 +9,7 @@
 #include "database/celldb/export_command.hpp"
 #include "database/celldb/info_command.hpp"
 #include "database/celldb/merge_command.hpp"
+#include "database/celldb/prune_command.hpp"
 #include "database/celldb/query_command.hpp"
 #include "database/celldb/verify_command.hpp"
 
@@ -63,6 +64,15 @@ int main(int argc, char** argv) {
   bench_cmd->add_flag("--uniform", bench.uniform, "Uniformly random states instead of paths");
   bench_cmd->add_flag("--json", bench.json, "Print the figures as JSON");
 
+  PruneOptions prune;
+  CLI::App* prune_cmd = app.add_subcommand(
+      "prune", "Cut the snapshots to a budget per path (records and templates are kept); needs the sampler lock");
+  prune_cmd->add_option("LIB", prune.library, "Library directory")->required();
+  prune_cmd->add_option("--keep-per-path", prune.keep_per_path, "Snapshots each path keeps (first, last, evenly between)")
+      ->required()
+      ->check(CLI::NonNegativeNumber);
+  prune_cmd->add_flag("--dry-run", prune.dry_run, "Report what would be removed; change nothing");
+
   AuditCommandOptions audit;
   CLI::App* audit_cmd = app.add_subcommand(
       "audit", "Replay sampled records (determinism), leave-one-path-out lookup errors, error vs distance");
@@ -97,6 +107,7 @@ int main(int argc, char** argv) {
     if (*query_cmd) return run_query(query, std::cout);
     if (*merge_cmd) return run_merge(merge, std::cout);
     if (*export_cmd) return run_export(export_options, std::cout);
+    if (*prune_cmd) return run_prune(prune, std::cout);
     if (*audit_cmd) return run_audit(audit, std::cout);
     return run_bench(bench, std::cout);
   } catch (const std::exception& e) {

@@ -311,6 +311,13 @@ void Catalogue::insert_snapshot(std::int64_t path_id, std::int64_t record_index,
       .run();
 }
 
+void Catalogue::delete_snapshots(const std::vector<std::int64_t>& ids) {
+  SqliteTransaction transaction(db_);
+  auto s = db_.prepare("DELETE FROM snapshots WHERE id = ?");
+  for (const std::int64_t id : ids) s.bind(1, id).run();
+  transaction.commit();
+}
+
 std::vector<SnapshotRow> Catalogue::snapshots() {
   std::vector<SnapshotRow> rows;
   auto s = db_.prepare("SELECT id, path_id, record_index, shard_id, hdf5_group FROM snapshots ORDER BY id");

@@ -94,6 +94,8 @@ class Catalogue {
   void insert_snapshot(std::int64_t path_id, std::int64_t record_index, std::int64_t shard_id, const std::string& group);
   std::vector<SnapshotRow> snapshots();
   std::vector<SnapshotRow> snapshots_of(std::int64_t path_id);
+  // Deletes the snapshot rows of these ids in one transaction (their HDF5 groups become orphans).
+  void delete_snapshots(const std::vector<std::int64_t>& ids);
 
   // Rows of every table, and paths and committed records per status, for `celldb info`.
   std::map<std::string, std::int64_t> table_counts();
