@@ -80,16 +80,18 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
       p.cell.reset();  // the point keeps the cell's state
       --live_points_;
       p.steps_inside = 0;
-      p.spent = 0;
       ++p.counters.returned_to_cache;
     }
     return;
   }
 
   const surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
-  if (!step.hit || p.spent + step.estimated_error > settings_.error_budget) {
+  const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
+  if (!step.hit || budget_spent) {
     ++p.counters.misses;
-    go_live(p);
+    // A cell started by state would carry the point's drifted stress on; the budget is there to end
+    // the drift, which only the point's own history does.
+    go_live(p, budget_spent ? LiveStart::replay : LiveStart::by_setting);
     advance_live(slot, p, increment, L, stress);
     return;
   }
@@ -102,11 +104,11 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   p.error = step.estimated_error;
 }
 
-void SurrogateLaw::go_live(Point& p) {
+void SurrogateLaw::go_live(Point& p, LiveStart how) {
   const auto start = std::chrono::steady_clock::now();
   // The history already holds this step's increment, which advance_live applies.
   const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
-  if (warm_start_ && !before.empty()) {
+  if (warm_start_ && how == LiveStart::by_setting && !before.empty()) {
     WarmStartOutcome outcome = warm_start_->start(p.state, model_);
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
     if (!outcome.servo.converged) ++p.counters.servo_unconverged;
@@ -116,6 +118,7 @@ void SurrogateLaw::go_live(Point& p) {
   if (!p.cell) {
     p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
     p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_));
+    p.spent = 0;  // the point's own history: its drift is gone
   }
   const dem::CellMeasures m = p.cell->measures();
   p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
@@ -168,7 +171,7 @@ double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2
 namespace {
 
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
-// since it was last live [Pa]; live cells as
+// since its state was last rebuilt from its history [Pa]; live cells as
 // "cell_<slot>"; the replay histories as append_history writes them; the learned samples as rows
 // features, answer, origin path, origin record, in insertion order.
 constexpr std::size_t kPointColumns = 16;

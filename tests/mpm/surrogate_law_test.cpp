@@ -179,7 +179,8 @@ TEST(SurrogateLaw, LiveResponsesRaiseTheHitRateOfTheNextPoint) {
 
 // With no tolerance a point never goes live; with an error budget of a few steps' errors it goes live
 // whenever the next step would spend past the budget, so the estimated errors summed over each run of
-// surrogate steps stay within it (and the point then returns after one live step).
+// surrogate steps stay within it (and the point then returns after one live step). It goes live by
+// replay, not by state: its live stress is then exactly the live law's.
 TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   const std::vector<Mat2> motion = off_library_motion();
   const std::vector<double> errors = surrogate_errors(motion);
@@ -187,13 +188,23 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   SurrogateLawSettings s = settings(kNoLimit, 1);
   s.error_budget = budget;
   auto law = surrogate_law(s);
-  Driver d = new_point(*law);
+  LiveDemLaw live(*shared().cell, LiveDemSettings{});
+  Driver d = new_point(*law), truth = new_point(live);
   double spent = 0, largest = 0;
+  int live_steps = 0;
   for (const Mat2& L : motion) {
     d(*law, L, kDt);
+    truth(live, L, kDt);
     spent = law->source(d.slot) == StressSource::hit ? spent + law->estimated_error(d.slot) : 0.0;
     largest = std::max(largest, spent);
+    if (law->source(d.slot) != StressSource::live) continue;
+    // A spent budget goes live by replaying the point's history: the live law's cell, to the bit.
+    EXPECT_EQ(d.stress.in_plane, truth.stress.in_plane);
+    ++live_steps;
   }
+  EXPECT_GE(live_steps, 1);
+  EXPECT_GT(law->point_counters(d.slot).warm_start_increments, 0u);
+  EXPECT_EQ(law->point_counters(d.slot).warm_start_servo_steps, 0u);
   double unbounded = 0;
   for (double e : errors) unbounded += e;
   ASSERT_GT(unbounded, 2 * budget) << "the motion must spend past the budget without one";
