@@ -46,9 +46,8 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
 }
 
 WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model) const {
-  WarmStartOutcome out;
-  out.snapshot = nearest(state);
-  dem::DemCell cell = model.cell_from(snapshots_[out.snapshot].cell);
+  const std::size_t index = nearest(state);
+  dem::DemCell cell = model.cell_from(snapshots_[index].cell);
   // Quasi-static: the servo moves the cell at inertial number I at the target's pressure, and an
   // error of that pressure drives it at full rate.
   const double pressure = surrogate::effective_pressure(state.stress, constants_);
@@ -59,9 +58,8 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
   servo.dt = cell.time_step(model.settings().substepping.q_t);
   servo.max_steps = settings_.max_servo_steps;
   // The MPM sees the symmetric part of a cell's stress (plane_stress_of); so does the servo.
-  out.servo = dem::servo_to_stress(cell, 0.5 * (state.stress + state.stress.transpose()), servo);
-  out.cell.emplace(std::move(cell));
-  return out;
+  const dem::StressServoResult result = dem::servo_to_stress(cell, 0.5 * (state.stress + state.stress.transpose()), servo);
+  return {std::move(cell), index, result};
 }
 
 }  // namespace grainbank::mpm

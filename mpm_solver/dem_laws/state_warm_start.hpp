@@ -18,7 +18,6 @@
 //   cell or replays the point's history instead (`replay_unconverged`).
 #pragma once
 #include <cstddef>
-#include <optional>
 #include <vector>
 
 #include "dem_sampler/cell/stress_servo.hpp"
@@ -41,8 +40,8 @@ struct StateWarmStartSettings {
 };
 
 struct WarmStartOutcome {
-  std::optional<dem::DemCell> cell;  // where the servo left it, converged or not
-  std::size_t snapshot = 0;          // index of the snapshot it started from
+  dem::DemCell cell;         // where the servo left it, converged or not
+  std::size_t snapshot = 0;  // index of the snapshot it started from
   dem::StressServoResult servo;
 };
 

@@ -113,7 +113,7 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
     if (!outcome.servo.converged) ++p.counters.servo_unconverged;
     if (outcome.servo.converged || !settings_.state_warm_start.replay_unconverged)
-      p.cell = std::make_unique<dem::DemCell>(std::move(*outcome.cell));
+      p.cell = std::make_unique<dem::DemCell>(std::move(outcome.cell));
   }
   if (!p.cell) {
     p.cell = std::make_unique<dem::DemCell>(model_.new_cell());

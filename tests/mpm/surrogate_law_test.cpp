@@ -232,7 +232,7 @@ TEST(SurrogateLaw, AStateWarmStartFindsTheNearestSnapshotAndServosItToThePointsS
     const WarmStartOutcome outcome = warm->start(target, LiveCellModel(*shared().cell, LiveDemSettings{}));
     ASSERT_TRUE(outcome.servo.converged) << "record " << k << ": residual " << outcome.servo.residual << " Pa";
     // Held still, the cell carries the target's stress (within twice the servo's tolerance).
-    dem::DemCell cell = *outcome.cell;
+    dem::DemCell cell = outcome.cell;
     dem::Mat3 sum = dem::Mat3::Zero();
     constexpr int kSteps = 200;
     for (int step = 0; step < kSteps; ++step) {
@@ -242,7 +242,7 @@ TEST(SurrogateLaw, AStateWarmStartFindsTheNearestSnapshotAndServosItToThePointsS
     const dem::Mat3 goal = 0.5 * (target.stress + target.stress.transpose());
     EXPECT_LE((sum / kSteps - goal).cwiseAbs().maxCoeff(), 2 * 200.0) << "record " << k;
     // The cell keeps the state it was copied from, but for the servo's small strain.
-    const dem::CellMeasures m = outcome.cell->measures();
+    const dem::CellMeasures m = outcome.cell.measures();
     EXPECT_NEAR(m.solid_fraction, warm->snapshot(outcome.snapshot).state.solid_fraction, 0.01);
     ++started;
   }
