@@ -27,6 +27,7 @@ DruckerPragerLaw::DruckerPragerLaw(double density, DruckerPragerParameters param
   if (!(parameters_.tensile_strength >= 0 && parameters_.tensile_strength <= apex))
     throw std::invalid_argument("tensile_strength: expected a number in [0, " + std::to_string(apex) +
                                 "] (the apex of the yield cone), got " + std::to_string(parameters_.tensile_strength));
+  if (parameters_.rheology) check(*parameters_.rheology, eta_);
 }
 
 std::size_t DruckerPragerLaw::add_point(PointStress& initial_stress) {
@@ -34,15 +35,25 @@ std::size_t DruckerPragerLaw::add_point(PointStress& initial_stress) {
   return points_++;
 }
 
-PointStress DruckerPragerLaw::return_map(const PointStress& trial) const {
+PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) const {
   double p = pressure_of(trial);
   const Mat2 s_plane = trial.in_plane + p * Mat2::Identity();  // deviator, in-plane block
   const double s_zz = trial.zz + p;
   p = std::max(p, -parameters_.tensile_strength);  // tension cut-off
   const double s_xy = 0.5 * (s_plane(0, 1) + s_plane(1, 0));
   const double j2 = 0.5 * (s_plane(0, 0) * s_plane(0, 0) + s_plane(1, 1) * s_plane(1, 1) + s_zz * s_zz) + s_xy * s_xy;
-  const double limit = std::max(eta_ * p + xi_ * parameters_.cohesion, 0.0);
-  const double scale = j2 > limit * limit ? limit / std::sqrt(j2) : 1.0;
+  const double static_limit = std::max(eta_ * p + xi_ * parameters_.cohesion, 0.0);
+  double scale = 1.0;
+  if (j2 > static_limit * static_limit) {
+    const double tau = std::sqrt(j2);
+    double limit = static_limit;
+    if (parameters_.rheology && p > 0) {
+      // Flowing: the strength grows with the rate of the flow it relaxes (seed §2.2's I).
+      const double g = parameters_.elasticity.shear_modulus();
+      limit = tau - g * dt * parameters_.rheology->plastic_shear_rate(tau - static_limit, eta_, p, g, dt);
+    }
+    scale = limit / tau;
+  }
   PointStress out;
   out.in_plane = scale * s_plane - p * Mat2::Identity();
   out.zz = scale * s_zz - p;
@@ -50,15 +61,24 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial) const {
 }
 
 void DruckerPragerLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
-  stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment));
+  stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment), increment.dt);
 }
 
 namespace {
 
 // {"law": "drucker_prager", "density": ρ, "young": E, "poisson": ν, "friction_angle": φ [degrees],
-//  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0)}
-constexpr std::string_view kKeys[] = {"name",    "law",           "density",         "young",
-                                      "poisson", "friction_angle", "cohesion", "tensile_strength"};
+//  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0),
+//  "inertial_rheology": {"mu_2": μ_2, "inertial_number_0": I_0, "grain_diameter": d [m],
+//                        "grain_density": ρ_s [kg/m³]} (none: rate-independent)}
+constexpr std::string_view kKeys[] = {"name",     "law",      "density",          "young",           "poisson",
+                                      "friction_angle", "cohesion", "tensile_strength", "inertial_rheology"};
+
+InertialRheology read_rheology(const common::JsonNode& node) {
+  using common::Range;
+  node.allow_only({"mu_2", "inertial_number_0", "grain_diameter", "grain_density"});
+  return {node.number("mu_2", Range::at_least(0)), node.number("inertial_number_0", Range::positive()),
+          node.number("grain_diameter", Range::positive()), node.number("grain_density", Range::positive())};
+}
 
 std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext&) {
   using common::Range;
@@ -67,6 +87,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   p.friction_angle = material.number("friction_angle", Range::between(0, 90, false, true)) * std::numbers::pi / 180;
   p.cohesion = material.number_or("cohesion", 0, Range::at_least(0));
   p.tensile_strength = material.number_or("tensile_strength", 0, Range::at_least(0));
+  if (const auto rheology = material.find("inertial_rheology")) p.rheology = read_rheology(*rheology);
   return common::at_node(material, [&] {
     return std::make_unique<DruckerPragerLaw>(material.number("density", Range::positive()), p);
   });

@@ -8,8 +8,13 @@
 // Tension cut-off: the mean stress never exceeds the tensile strength T (p ≥ -T).
 // Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
 // radially onto the cone (zero dilatancy: plastic flow is purely deviatoric).
+// Optionally rate-dependent: with an InertialRheology the cone's friction is μ(I) from η = sin φ
+// = μ_s on, at the inertial number of the plastic shear rate (inertial_rheology.hpp).
 #pragma once
+#include <optional>
+
 #include "mpm_solver/laws/elastic_law.hpp"
+#include "mpm_solver/laws/inertial_rheology.hpp"
 
 namespace grainbank::mpm {
 
@@ -18,6 +23,7 @@ struct DruckerPragerParameters {
   double friction_angle = 0;    // φ [rad], in [0, π/2)
   double cohesion = 0;          // c [Pa] ≥ 0
   double tensile_strength = 0;  // T [Pa], in [0, ξ c / η] (the apex of the cone)
+  std::optional<InertialRheology> rheology;  // none: rate-independent
 };
 
 class DruckerPragerLaw : public ConstitutiveLaw {
@@ -30,8 +36,9 @@ class DruckerPragerLaw : public ConstitutiveLaw {
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double p_wave_modulus(std::size_t) const override { return parameters_.elasticity.p_wave_modulus(); }
 
-  // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense above.
-  PointStress return_map(const PointStress& trial) const;
+  // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense
+  // above, for a step of dt (which only the rate-dependent cone uses).
+  PointStress return_map(const PointStress& trial, double dt) const;
 
  private:
   double density_;

@@ -52,7 +52,7 @@ TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
   PointStress trial;
   trial.in_plane << -5000, 8000, 8000, -3000;
   trial.zz = -4000;
-  const PointStress out = law.return_map(trial);
+  const PointStress out = law.return_map(trial, 1e-3);
   EXPECT_NEAR(pressure_of(out), pressure_of(trial), 1e-9);
   EXPECT_NEAR(sqrt_j2(out), eta * pressure_of(trial) + xi * c, 1e-6);
   // Radial return: the deviator keeps its direction.
@@ -62,7 +62,7 @@ TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
   PointStress inside;
   inside.in_plane << -5000, 100, 100, -4000;
   inside.zz = -4500;
-  const PointStress same = law.return_map(inside);
+  const PointStress same = law.return_map(inside, 1e-3);
   EXPECT_NEAR((same.in_plane - inside.in_plane).norm(), 0, 1e-9);
 }
 
@@ -84,7 +84,7 @@ TEST(DruckerPrager, SteadyPlaneStrainFlowIsMohrCoulomb) {
     PointStress previous = s;
     for (int k = 0; k < 20000; ++k) {
       previous = s;
-      s = law.return_map(elastic_predictor(parameters.elasticity, s, increment));
+      s = law.return_map(elastic_predictor(parameters.elasticity, s, increment), increment.dt);
     }
     EXPECT_NEAR((s.in_plane - previous.in_plane).norm(), 0, 1e-6 * 1e4) << "not yet steady";
     const double sigma1 = -s.in_plane(1, 1), sigma3 = -s.in_plane(0, 0);
@@ -93,12 +93,51 @@ TEST(DruckerPrager, SteadyPlaneStrainFlowIsMohrCoulomb) {
   }
 }
 
+TEST(DruckerPrager, SteadyFlowFollowsTheInertialRheology) {
+  // Isochoric plane-strain pure shear at a constant rate: in steady flow the elastic strain no longer
+  // changes, so the plastic shear rate is the imposed γ̇ = sqrt(2) |D_dev| = 2 ε̇ and the stress ratio
+  // (σ1 − σ3)/(σ1 + σ3) = sqrt(J2)/p must be Jop et al.'s μ(I) at I = γ̇ d / sqrt(p / ρ_s), with
+  // μ_s = sin φ (glass beads: μ_s = 0.38, μ_2 = 0.64, I_0 = 0.279, d = 0.53 mm).
+  const InertialRheology beads{0.64, 0.279, 0.53e-3, 2450};
+  const double phi = std::asin(0.38), p0 = 1e4;
+  const DruckerPragerParameters parameters{{5e6, 0.3}, phi, 0, 0, beads};
+  DruckerPragerLaw law(1500, parameters);
+  for (double inertial_number : {1e-3, 0.05, 0.3, 2.0}) {
+    SCOPED_TRACE(inertial_number);
+    const double shear_rate = inertial_number * std::sqrt(p0 / beads.grain_density) / beads.grain_diameter;
+    const double strain_rate = shear_rate / 2;
+    PointStress s;
+    s.in_plane = -p0 * Mat2::Identity();
+    s.zz = -p0;
+    const KinematicIncrement increment = KinematicIncrement::of_velocity_gradient(
+        Mat2{{strain_rate, 0}, {0, -strain_rate}}, 1e-5 / strain_rate);  // 1e-5 per step
+    PointStress previous = s;
+    for (int k = 0; k < 20000; ++k) {
+      previous = s;
+      law.update(0, increment, Mat2::Identity(), s);
+    }
+    EXPECT_NEAR((s.in_plane - previous.in_plane).norm(), 0, 1e-6 * p0) << "not yet steady";
+    const double sigma1 = -s.in_plane(1, 1), sigma3 = -s.in_plane(0, 0);
+    EXPECT_NEAR(0.5 * (sigma1 + sigma3), p0, 1e-6 * p0);  // isochoric flow keeps the pressure
+    const double mu = beads.mu_2 - (beads.mu_2 - 0.38) / (1 + inertial_number / beads.inertial_number_0);
+    EXPECT_NEAR((sigma1 - sigma3) / (sigma1 + sigma3), mu, 1e-6);
+  }
+}
+
+TEST(DruckerPrager, InertialRheologyParametersAreChecked) {
+  const double phi = std::asin(0.38);
+  EXPECT_THROW(DruckerPragerLaw(1500, DruckerPragerParameters{{5e6, 0.3}, phi, 0, 0, InertialRheology{0.3, 0.279, 5e-4, 2450}}),
+               std::invalid_argument);  // μ_2 below μ_s
+  EXPECT_THROW(DruckerPragerLaw(1500, DruckerPragerParameters{{5e6, 0.3}, phi, 0, 0, InertialRheology{0.64, 0, 5e-4, 2450}}),
+               std::invalid_argument);
+}
+
 TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {
   DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 300});
   PointStress trial;
   trial.in_plane << 2000, 0, 0, 1000;
   trial.zz = 900;
-  const PointStress out = law.return_map(trial);
+  const PointStress out = law.return_map(trial, 1e-3);
   EXPECT_NEAR(pressure_of(out), -300, 1e-9);
   EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6}), std::invalid_argument);
 }
