@@ -1,11 +1,15 @@
 """Validation of the cohesionless column collapse against the planar experiments of Lube et al.
 (2005): runout ΔL/L0 and final height H∞/H0 at aspect ratios a = 0.5, 1, 2, 3, measured at rest
 (kinetic energy below 1e-4 of its peak), and their convergence with the grid size h, the points per
-cell and the time step. Runs mpm_solver on scenes from column_scene.py, one after another.
+cell and the time step. Beside the front (the farthest material point), the deposit's edges where it
+is 5, 10 and 15 % of H0 thick and its profile (deposit.py says why). Runs mpm_solver on scenes from
+column_scene.py, one after another.
 
   /usr/bin/python3 study.py [OUT] [--build BUILD] [--threads N] [--quick]
 
-Writes (OUT default: $GRAINBANK_OUT/lube_validation, i.e. build/out/lube_validation) OUT/<case>/ (scene and run), OUT/results.json, OUT/results.md and OUT/runout.png. --quick runs
+Writes (OUT default: $GRAINBANK_OUT/lube_validation, i.e. build/out/lube_validation) OUT/<case>/
+(scene and run), OUT/results.json, OUT/results.md, OUT/runout.png and OUT/deposit.png (the a = 1
+deposit profiles at every h). --quick runs
 only the coarse a = 1 case (a smoke test of the workflow).
 """
 import argparse
@@ -17,6 +21,7 @@ import time
 from pathlib import Path
 
 import column_scene
+import deposit
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
@@ -72,23 +77,28 @@ def run_case(out, build, threads, name, a, h, ppc, cfl):
         front = series["front"][k] + g["radius"]
         height = series["max_height"][k] + g["radius"]
         runout = (front - g["wall"] - g["L0"]) / g["L0"]
+        x, profile = deposit.profile(folder / "run", g, h)
         result.update(at_rest=True, rest_time=float(series["t"][k]), runout=float(runout),
                       final_height=float((height - g["base"]) / g["H0"]),
-                      runout_error=float(runout / column_scene.lube_runout(a) - 1))
+                      runout_error=float(runout / column_scene.lube_runout(a) - 1),
+                      edges=deposit.edges(x, profile), profile={"x": x.tolist(), "height": profile.tolist()})
     return result
 
 
 def table(results):
-    lines = ["| case | a | h [m] | ppc | CFL | at rest [s] | ΔL/L0 | Lube | error | H∞/H0 | CPU [s] |",
-             "|---|---|---|---|---|---|---|---|---|---|---|"]
+    thick = " | ".join(f"edge {float(f):.0%} H0" for f in deposit.EDGE_FRACTIONS)
+    lines = [f"| case | a | h [m] | ppc | CFL | at rest [s] | ΔL/L0 (front) | {thick} | Lube | error | H∞/H0 | CPU [s] |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(deposit.EDGE_FRACTIONS) + "---|---|---|---|"]
+    blank = " |" * len(deposit.EDGE_FRACTIONS)
     for r in results:
         if r["at_rest"]:
             lines.append(f"| {r['case']} | {r['a']:g} | {r['h']:g} | {r['points_per_cell']} | {r['cfl']:g} | "
-                         f"{r['rest_time']:.2f} | {r['runout']:.3f} | {r['lube_runout']:.2f} | "
+                         f"{r['rest_time']:.2f} | {r['runout']:.3f} | "
+                         + "".join(f"{e:.2f} | " for e in r["edges"].values()) + f"{r['lube_runout']:.2f} | "
                          f"{100 * r['runout_error']:+.1f} % | {r['final_height']:.3f} | {r['cpu_s']:.0f} |")
         else:
             lines.append(f"| {r['case']} | {r['a']:g} | {r['h']:g} | {r['points_per_cell']} | {r['cfl']:g} | "
-                         f"not at rest | | {r['lube_runout']:.2f} | | | {r['cpu_s']:.0f} |")
+                         f"not at rest | |{blank} {r['lube_runout']:.2f} | | | {r['cpu_s']:.0f} |")
     return "\n".join(lines) + "\n"
 
 
@@ -103,12 +113,31 @@ def plot(results, file):
     ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
                     color="0.85", label="±30 %")
     for h, marker in ((0.02, "s"), (0.01, "o"), (0.005, "^")):
-        pts = [(r["a"], r["runout"]) for r in results
-               if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3]
-        if pts:
-            ax.plot(*zip(*pts), marker, label=f"APIC, h = {h:g} m (L0/h = {WIDTH / h:.0f})")
+        runs = [r for r in results if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3]
+        if runs:
+            ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker,
+                    label=f"front, h = {h:g} m (L0/h = {WIDTH / h:.0f})")
+            ax.plot([r["a"] for r in runs], [r["edges"]["0.1"] for r in runs], marker, mfc="none",
+                    label=f"edge at 10 % of H0, h = {h:g} m")
     ax.set_xlabel("aspect ratio a = H0/L0")
     ax.set_ylabel("runout ΔL/L0")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(file, dpi=120)
+
+
+def plot_deposits(results, file):
+    """The a = 1 deposit profiles at every h (2 points per cell, CFL 0.3), with Lube's runout."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(6, 3))
+    for r in results:
+        if r["at_rest"] and r["a"] == 1.0 and r["points_per_cell"] == 2 and r["cfl"] == 0.3:
+            ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", label=f"h = {r['h']:g} m")
+    ax.axvline(column_scene.lube_runout(1.0), color="k", ls="--", lw=0.8, label="Lube et al. 2005")
+    ax.set_xlabel("(x − L0) / L0")
+    ax.set_ylabel("deposit height / H0")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(file, dpi=120)
@@ -129,6 +158,7 @@ def main():
         (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n")
         (args.out / "results.md").write_text(table(results))
     plot(results, args.out / "runout.png")
+    plot_deposits(results, args.out / "deposit.png")
 
 
 if __name__ == "__main__":
