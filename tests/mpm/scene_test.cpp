@@ -102,6 +102,13 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
   expect_error("\"k_n\": 1e6,", "\"kn\": 1e6,",
                "bad.json: /obstacles/0/kn: unknown key; allowed keys here: line, polygon, k_n, k_t, friction, "
                "damping, velocity, remove_at");
+  const std::string dp = "\"tensile_strength\": 10";
+  expect_error(dp, dp + ", \"inertial_rheology\": {\"mu_2\": 0.7, \"I_0\": 0.3}",
+               "bad.json: /materials/1/inertial_rheology/I_0: unknown key; allowed keys here: mu_2, inertial_number_0, "
+               "grain_diameter, grain_density");
+  expect_error(dp, dp + ", \"inertial_rheology\": {\"mu_2\": 0.4, \"inertial_number_0\": 0.3, "
+               "\"grain_diameter\": 1e-3, \"grain_density\": 2500}",
+               "bad.json: /materials/1: mu_2: expected a number >= the static friction sin(friction_angle) = 0.500000, got 0.400000");
   expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
                "bad.json: /materials/0/law: expected " + law_names() + ", got a string (\"plastic\")");
   const std::string time = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
