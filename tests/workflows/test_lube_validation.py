@@ -1,5 +1,6 @@
 """The Lube validation (workflows/lube_validation): the quick study runs the coarse a = 1 column to
-rest and writes its table, JSON and figure; the scene generator's column is what the study measures."""
+rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
+scene generator's column is what the study measures, with or without μ(I)."""
 import json
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
@@ -17,8 +18,25 @@ class LubeValidationTest(WorkflowTest):
         self.assertLess(r["runout"], 2 * r["lube_runout"])
         self.assertGreater(r["final_height"], 0.5)
         self.assertLessEqual(r["final_height"], 1.0 + 1e-3)  # nothing rises above the initial top
+        # A thinner threshold reaches at least as far, and no edge passes the farthest point (bins are h wide).
+        e = r["edges"]
+        self.assertGreaterEqual(e["0.05"], e["0.1"])
+        self.assertGreaterEqual(e["0.1"], e["0.15"])
+        self.assertLessEqual(e["0.05"], r["runout"] + r["h"] / 0.2 + 1e-9)
         self.assertIn("| case | a |", (self.out / "results.md").read_text())
         self.assert_png(self.out / "runout.png")
+        self.assert_png(self.out / "deposit.png")
         scene = json.loads((self.out / r["case"] / "scene.json").read_text())
         self.assertEqual(scene["integration"], {"transfer": {"apic_flip": {"pic_rate": 5.0}}})
         self.assertEqual(scene["obstacles"][2]["remove_at"], 0.02)
+
+    def test_scene_with_inertial_rheology(self):
+        out = self.out / "mu_i.json"
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "column_scene.py", out, "--aspect-ratio", "1",
+             "--inertial-rheology"])
+        sand = json.loads(out.read_text())["materials"][0]
+        self.assertEqual(sand["friction_angle"], 30.0)
+        self.assertGreater(sand["inertial_rheology"]["mu_2"], 0.5)  # above the static sin 30°
+        run([BUILD / "mpm_solver" / "mpm_solver", out, "--out", self.out / "mu_i", "--threads", "1",
+             "--set", "/time/end=0.03"])
+        self.assertTrue((self.out / "mu_i" / "summary.json").exists())

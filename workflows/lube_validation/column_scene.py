@@ -5,6 +5,7 @@ gate removed at t = 0.02 s. The same setup as tests/mpm/granular_column.hpp (the
 
   python3 column_scene.py OUT.json --aspect-ratio A [--width L0] [--cell-size H] [--points-per-cell N]
                           [--cfl C] [--end T] [--transfer apic|pic|RATE|apic_flip:RATE]
+                          [--inertial-rheology]
 """
 import argparse
 import json
@@ -26,9 +27,13 @@ def p_wave_modulus():
 
 
 DEFAULT_TRANSFER = {"apic_flip": {"pic_rate": 5.0}}  # the solver's default
+# μ(I) on the column's static friction sin φ: the rate dependence (μ_2 − μ_s = 0.26, I_0 = 0.279) of
+# the glass beads of Jop, Forterre & Pouliquen (2005, J. Fluid Mech. 541:167; d = 0.53 mm, ρ_s = 2450).
+JOP_RHEOLOGY = {"mu_2": math.sin(math.radians(FRICTION_ANGLE)) + 0.26, "inertial_number_0": 0.279,
+                "grain_diameter": 0.53e-3, "grain_density": 2450.0}
 
 
-def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER):
+def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER, rheology=None):
     L0, H0 = width, a * width
     base = wall = 2 * h
     cells_x = math.ceil((wall + L0 * (1 + 2 * lube_runout(a)) + 2 * h) / h)
@@ -38,14 +43,17 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANS
     top = base + H0 + h
     contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
     end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
+    sand = {"name": "sand", "law": "drucker_prager", "density": DENSITY, "young": YOUNG, "poisson": POISSON,
+            "friction_angle": FRICTION_ANGLE}
+    if rheology:
+        sand["inertial_rheology"] = rheology
     return {
         "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
         "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
         "integration": {"transfer": transfer},
         "effects": {"gravity": True, "boundary_friction": True},
         "gravity": {"g": [0, -9.81]},
-        "materials": [{"name": "sand", "law": "drucker_prager", "density": DENSITY, "young": YOUNG,
-                       "poisson": POISSON, "friction_angle": FRICTION_ANGLE}],
+        "materials": [sand],
         "regions": [{"material": "sand", "rectangle": {"min": [wall, base], "max": [wall + L0, base + H0]},
                      "points_per_cell": ppc}],
         "obstacles": [
@@ -81,8 +89,11 @@ def main():
     parser.add_argument("--end", type=float)
     parser.add_argument("--transfer", type=transfer_arg, default=DEFAULT_TRANSFER,
                         help="apic, pic, a FLIP/PIC rate [1/s] or apic_flip:RATE (default apic_flip:5)")
+    parser.add_argument("--inertial-rheology", action="store_true",
+                        help="μ(I) with the rate dependence of Jop et al.'s glass beads (JOP_RHEOLOGY)")
     args = parser.parse_args()
-    s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer)
+    s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer,
+              JOP_RHEOLOGY if args.inertial_rheology else None)
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(s, indent=2) + "\n")
 

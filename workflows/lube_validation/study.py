@@ -2,15 +2,16 @@
 (2005): runout ΔL/L0 and final height H∞/H0 at aspect ratios a = 0.5, 1, 2, 3, measured at rest
 (kinetic energy below 1e-4 of its peak), and their convergence with the grid size h, the points per
 cell and the time step. Beside the front (the farthest material point), the deposit's edges where it
-is 5, 10 and 15 % of H0 thick and its profile (deposit.py says why). Runs mpm_solver on scenes from
-column_scene.py, one after another.
+is 5, 10 and 15 % of H0 thick and its profile (deposit.py says why). The a = 1 h-series is run
+again with μ(I) friction (column_scene.JOP_RHEOLOGY), the rate dependence a constant-friction cone
+lacks. Runs mpm_solver on scenes from column_scene.py, one after another.
 
   /usr/bin/python3 study.py [OUT] [--build BUILD] [--threads N] [--quick]
 
 Writes (OUT default: $GRAINBANK_OUT/lube_validation, i.e. build/out/lube_validation) OUT/<case>/
 (scene and run), OUT/results.json, OUT/results.md, OUT/runout.png and OUT/deposit.png (the a = 1
-deposit profiles at every h). --quick runs
-only the coarse a = 1 case (a smoke test of the workflow).
+deposit profiles at every h). --quick runs only the coarse a = 1 case (a smoke test of the
+workflow).
 """
 import argparse
 import json
@@ -33,13 +34,14 @@ WIDTH = 0.2  # L0 [m]
 
 
 def cases(quick):
-    """(name, aspect ratio, h, points per cell, CFL) of the study."""
+    """(name, aspect ratio, h, points per cell, CFL, μ(I)) of the study."""
     if quick:
-        return [("a1_h0.02_ppc2", 1.0, 0.02, 2, 0.3)]
-    out = [(f"a{a:g}_h0.01_ppc2", a, 0.01, 2, 0.3) for a in (0.5, 1.0, 2.0, 3.0)]
-    out += [(f"a{a:g}_h{h:g}_ppc2", a, h, 2, 0.3) for a in (1.0, 2.0) for h in (0.02, 0.005)]
-    out += [(f"a1_h0.01_ppc{n}", 1.0, 0.01, n, 0.3) for n in (1, 3)]
-    out += [(f"a1_h0.01_ppc2_cfl{c:g}", 1.0, 0.01, 2, c) for c in (0.15, 0.5)]
+        return [("a1_h0.02_ppc2", 1.0, 0.02, 2, 0.3, False)]
+    out = [(f"a{a:g}_h0.01_ppc2", a, 0.01, 2, 0.3, False) for a in (0.5, 1.0, 2.0, 3.0)]
+    out += [(f"a{a:g}_h{h:g}_ppc2", a, h, 2, 0.3, False) for a in (1.0, 2.0) for h in (0.02, 0.005)]
+    out += [(f"a1_h0.01_ppc{n}", 1.0, 0.01, n, 0.3, False) for n in (1, 3)]
+    out += [(f"a1_h0.01_ppc2_cfl{c:g}", 1.0, 0.01, 2, c, False) for c in (0.15, 0.5)]
+    out += [(f"a1_h{h:g}_ppc2_mu_i", 1.0, h, 2, 0.3, True) for h in (0.02, 0.01, 0.005)]
     return out
 
 
@@ -54,11 +56,12 @@ def at_rest(series, gate):
     return None
 
 
-def run_case(out, build, threads, name, a, h, ppc, cfl):
+def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
     folder = out / name
     folder.mkdir(parents=True, exist_ok=True)
     scene_file = folder / "scene.json"
-    scene_file.write_text(json.dumps(column_scene.scene(a, WIDTH, h, ppc, cfl), indent=2) + "\n")
+    scene_file.write_text(json.dumps(column_scene.scene(
+        a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None), indent=2) + "\n")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.monotonic()
     subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(folder / "run"),
@@ -67,7 +70,7 @@ def run_case(out, build, threads, name, a, h, ppc, cfl):
     series = read_csv(folder / "run" / "series.csv")
     g = column_scene.geometry(a, WIDTH, h, ppc)
     k = at_rest(series, column_scene.GATE_REMOVAL)
-    result = {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl,
+    result = {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i,
               "cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
               "wall_s": time.monotonic() - start, "steps": int(series["step"][-1]),
               "lube_runout": column_scene.lube_runout(a)}
@@ -113,7 +116,8 @@ def plot(results, file):
     ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
                     color="0.85", label="±30 %")
     for h, marker in ((0.02, "s"), (0.01, "o"), (0.005, "^")):
-        runs = [r for r in results if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3]
+        runs = [r for r in results if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3
+                and not r["inertial_rheology"]]
         if runs:
             ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker,
                     label=f"front, h = {h:g} m (L0/h = {WIDTH / h:.0f})")
@@ -127,14 +131,16 @@ def plot(results, file):
 
 
 def plot_deposits(results, file):
-    """The a = 1 deposit profiles at every h (2 points per cell, CFL 0.3), with Lube's runout."""
+    """The a = 1 deposit profiles at every h (2 points per cell, CFL 0.3; constant and μ(I) friction), with
+    Lube's runout."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(figsize=(6, 3))
     for r in results:
         if r["at_rest"] and r["a"] == 1.0 and r["points_per_cell"] == 2 and r["cfl"] == 0.3:
-            ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", label=f"h = {r['h']:g} m")
+            ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", ls=":" if r["inertial_rheology"] else "-",
+                    label=f"h = {r['h']:g} m" + (", μ(I)" if r["inertial_rheology"] else ""))
     ax.axvline(column_scene.lube_runout(1.0), color="k", ls="--", lw=0.8, label="Lube et al. 2005")
     ax.set_xlabel("(x − L0) / L0")
     ax.set_ylabel("deposit height / H0")
