@@ -1,6 +1,7 @@
 #include "dem_sampler/cell/dem_cell.hpp"
 
 #include "dem_sampler/cell/matrix_functions.hpp"
+#include "dem_sampler/cell/retiling.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -154,6 +155,7 @@ IncrementResult DemCell::advance(const Mat3& increment, double duration, const S
   StressRegression regression;
   for (long k = 1; k <= n; ++k) {
     h0 = h0 * reduce_if_needed().cast<double>();
+    h0 = h0 * retile_if_needed();
     const double fraction = static_cast<double>(k) / static_cast<double>(n);
     const Mat3 h_next = k == n ? Mat3(increment * h0) : Mat3(matrix_exponential(fraction * log_increment) * h0);
     const double t = static_cast<double>(k) * dt;
@@ -176,11 +178,13 @@ IncrementResult DemCell::advance(const Mat3& increment, double duration, const S
 
 void DemCell::step_with_velocity_gradient(const Mat3& L, double dt) {
   reduce_if_needed();
+  retile_if_needed();
   step_to(h_ + dt * L * h_, dt, true);
 }
 
 void DemCell::step_mixed(const MixedControl& c, double dt) {
   reduce_if_needed();
+  retile_if_needed();
   Mat3 L = c.velocity_gradient;
   for (int a = 0; a < 3; ++a)
     for (int b = 0; b < 3; ++b)
@@ -373,6 +377,24 @@ IntMat3 DemCell::reduce_if_needed() {
   rebuild_list();
   update_positions();
   ++flips_;
+  return m;
+}
+
+Mat3 DemCell::retile_if_needed() {
+  const double cutoff = 2 * max_radius_ + skin_;
+  if (retiling_cap_ < 2 * size() || perpendicular_widths(h_).minCoeff() >= kRetileMargin * 2 * cutoff)
+    return Mat3::Identity();
+  const int axis = thinnest_axis(h_);
+  const std::int64_t flips = flips_, list_builds = list_builds_;
+  const double local_damping = local_damping_;
+  const std::size_t cap = retiling_cap_;
+  *this = DemCell(doubled_along(state(), axis), material_, skin_);
+  flips_ = flips;
+  list_builds_ = list_builds;
+  local_damping_ = local_damping;
+  retiling_cap_ = cap;
+  Mat3 m = Mat3::Identity();
+  m(axis, axis) = 2;
   return m;
 }
 

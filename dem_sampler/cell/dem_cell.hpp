@@ -88,6 +88,13 @@ class DemCell {
   // Replaces the friction coefficient (preparation lowers it to control density).
   void set_friction(double mu);
 
+  // Re-tiling (retiling.hpp): before a step, a cell whose smallest width after lattice reduction is
+  // within kRetileMargin of twice the interaction range is replaced by its supercell doubled along
+  // that width, as long as it then holds at most `max_spheres` spheres; beyond that the cell goes on
+  // until it is too thin and throws CellTooThinError, as without re-tiling. 0 (the default): off.
+  void set_retiling_cap(std::size_t max_spheres) { retiling_cap_ = max_spheres; }
+  static constexpr double kRetileMargin = 1.1;
+
   CellMeasures measures() const;
   // The stress at the last measured step (measures().stress without the other sums).
   const Mat3& stress() const { return stress_; }
@@ -127,6 +134,8 @@ class DemCell {
   int closest_image(std::uint32_t i, std::uint32_t j) const;
   // Flips to a reduced basis if due; returns M (identity if nothing changed).
   IntMat3 reduce_if_needed();
+  // Re-tiles if due (see set_retiling_cap); returns M (identity if nothing changed).
+  Mat3 retile_if_needed();
   // Velocity Verlet halves: first kick + drift (returns the largest squared fluctuation displacement
   // since the last list build), and the closing kick. Damped = Cundall local damping on.
   template <bool Damped>
@@ -142,6 +151,7 @@ class DemCell {
   double skin_;
   double max_radius_ = 0, min_mass_ = 0, min_radius_ = 0;
   double local_damping_ = 0;
+  std::size_t retiling_cap_ = 0;
 
   Mat3 h_, h_inv_, h_ref_, L_ = Mat3::Zero();
   double time_ = 0;
