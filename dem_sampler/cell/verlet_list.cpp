@@ -16,7 +16,8 @@ void VerletListBuilder::build(const Mat3& h, const std::vector<Vec3>& s, const s
     std::ostringstream msg;
     msg << "periodic cell too thin: smallest width " << width.minCoeff() << " m is below twice the interaction range "
         << cutoff << " m (largest diameter + Verlet skin), so a sphere would meet two images of a neighbour. "
-        << "Use a cell with more spheres, a smaller deformation increment, or a smaller skin.";
+        << "Use a cell with more spheres, a smaller deformation increment, a smaller skin, or re-tiling with a larger "
+           "cap on spheres per cell.";
     throw CellTooThinError(msg.str());
   }
   Eigen::Vector3i bins;

@@ -1,5 +1,5 @@
-// What answered a material point's stress, and the counters of the library-backed laws (cache,
-// hybrid): written to the CSV series, the VTU fields and the run summary.
+// What answered a material point's stress, and the counters of the DEM-backed laws (live, cache,
+// hybrid, surrogate): written to the CSV series, the VTU fields and the run summary.
 #pragma once
 #include <cstdint>
 
@@ -25,13 +25,14 @@ struct CouplingCounters {
   double warm_start_seconds = 0;            // wall time of building those cells [s]
   double estimated_error_sum = 0;           // Σ over lookups of the lookup's estimated error [Pa]
   std::uint64_t enriched_paths = 0, enriched_records = 0;  // written to the run's own shard
+  std::uint64_t retilings = 0;              // doublings of live cells (dem_sampler/cell/retiling.hpp)
 
   CouplingCounters& operator+=(const CouplingCounters& o) {
     hits += o.hits, misses += o.misses, live_updates += o.live_updates, went_live += o.went_live;
     returned_to_cache += o.returned_to_cache, warm_start_increments += o.warm_start_increments;
     warm_start_servo_steps += o.warm_start_servo_steps, servo_unconverged += o.servo_unconverged;
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;
-    enriched_paths += o.enriched_paths, enriched_records += o.enriched_records;
+    enriched_paths += o.enriched_paths, enriched_records += o.enriched_records, retilings += o.retilings;
     return *this;
   }
   double hit_rate() const { return hits + misses ? double(hits) / double(hits + misses) : 0.0; }

@@ -17,6 +17,10 @@ LiveDemSettings read_live_settings(const JsonNode& material) {
     s.substepping.q_sigma = sub->number_or("q_sigma", s.substepping.q_sigma, Range::between(0, 1, true, false));
   }
   s.q_h = material.number_or("q_h", s.q_h, Range::positive());
+  if (const auto retiling = material.find("retiling")) {
+    retiling->allow_only({"max_spheres"});
+    s.max_spheres = static_cast<std::size_t>(retiling->integer_or("max_spheres", 0, 0, 100000000));
+  }
   return s;
 }
 

@@ -102,7 +102,7 @@ void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const
   if (settings_.fallback == Fallback::replay) {
     // The history already holds this step's increment, which advance_live applies.
     const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
-    increments = replay(*p.cell, before, model_);
+    increments = replay(*p.cell, before, model_, p.counters);
     origin["start"] = "replay";
   } else {
     increments = drive_to(*p.cell, embed_plane_strain(F_before), settings_.max_drive_strain, dt,
@@ -124,7 +124,7 @@ void LibraryLaw::start_enriched_path(Point& p, const nlohmann::json& origin) {
 }
 
 void LibraryLaw::advance_live(Point& p, const KinematicIncrement& increment, PointStress& stress) {
-  const dem::Mat3 sigma = model_.advance(*p.cell, increment);
+  const dem::Mat3 sigma = model_.advance(*p.cell, increment, p.counters);
   stress = plane_stress_of(sigma);
   const dem::CellMeasures m = p.cell->measures();
   p.modulus = model_.modulus(m);
@@ -184,7 +184,7 @@ void LibraryLaw::restore_state(LawStateReader& in) {
 
 double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
   const Point& p = points_[slot];
-  return p.cell ? p.cell->volume() / model_.template_volume() : F.determinant();
+  return p.cell ? model_.volume_ratio(*p.cell) : F.determinant();
 }
 
 double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const {

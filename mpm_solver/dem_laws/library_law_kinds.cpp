@@ -16,9 +16,9 @@ namespace {
 using common::JsonNode;
 using common::Range;
 
-constexpr std::string_view kCacheKeys[] = {"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h"};
+constexpr std::string_view kCacheKeys[] = {"name", "law", "library", "template", "cell", "lookup", "substepping", "q_h", "retiling"};
 constexpr std::string_view kHybridKeys[] = {"name",   "law",         "library", "template", "cell",
-                                            "lookup", "substepping", "q_h",     "fallback", "enrich",
+                                            "lookup", "substepping", "q_h", "retiling", "fallback", "enrich",
                                             "snapshot_interval", "snapshot_budget"};
 
 // "lookup": {"k", "tolerance", "scales": {"strain", "rate", "damage"}}; the scales replace the

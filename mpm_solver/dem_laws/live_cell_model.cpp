@@ -33,8 +33,18 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
   min_diameter_ = 2 * *std::min_element(r.begin(), r.end());
 }
 
-dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& increment) const {
-  return cell.advance(embed_plane_strain(increment.F), increment.dt, settings_.substepping).stress;
+dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& increment,
+                                 CouplingCounters& counters) const {
+  std::size_t spheres = cell.size();
+  const dem::Mat3 stress = cell.advance(embed_plane_strain(increment.F), increment.dt, settings_.substepping).stress;
+  for (; spheres < cell.size(); spheres *= 2) ++counters.retilings;
+  return stress;
+}
+
+double LiveCellModel::volume_ratio(const dem::DemCell& cell) const {
+  // Exact: the sphere counts' ratio is a power of two, and re-tiling doubles the volume exactly.
+  const double copies = static_cast<double>(cell.size()) / static_cast<double>(template_size());
+  return cell.volume() / (template_volume_ * copies);
 }
 
 ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t) {

@@ -4,6 +4,7 @@
 // behaves exactly like a point of the live law.
 #pragma once
 #include "dem_sampler/cell/dem_cell.hpp"
+#include "mpm_solver/core/coupling_status.hpp"
 #include "mpm_solver/core/kinematic_increment.hpp"
 #include "mpm_solver/core/types.hpp"
 
@@ -12,6 +13,7 @@ namespace grainbank::mpm {
 struct LiveDemSettings {
   dem::Substepping substepping;  // Q_t, Q_n, Q_σ of seed Eq. 3 and Fig. 3
   double q_h = 0.01;             // Q_h of seed Eq. 4: cell walls move at most Q_h d_min per MPM step
+  std::size_t max_spheres = 0;   // re-tiling cap of every cell (DemCell::set_retiling_cap; 0: off)
 };
 
 // The MPM momentum balance needs a symmetric stress; Love–Weber stress is symmetric only at
@@ -40,14 +42,22 @@ class LiveCellModel {
   double density() const { return density_; }
   double template_volume() const { return template_volume_; }
   const dem::Mat3& template_cell_matrix() const { return template_state_.h; }
+  std::size_t template_size() const { return template_state_.radius.size(); }
 
-  // A deep copy of the template, or a cell continuing from `state` (the point owns it).
-  dem::DemCell new_cell() const { return dem::DemCell(template_state_, material_, skin_); }
-  dem::DemCell cell_from(dem::CellState state) const { return dem::DemCell(std::move(state), material_, skin_); }
+  // A deep copy of the template, or a cell continuing from `state` (the point owns it); both re-tile
+  // up to the settings' cap.
+  dem::DemCell new_cell() const { return with_cap(dem::DemCell(template_state_, material_, skin_)); }
+  dem::DemCell cell_from(dem::CellState state) const {
+    return with_cap(dem::DemCell(std::move(state), material_, skin_));
+  }
 
   // Drives the cell through the in-plane increment; returns its regressed 3D stress
-  // (plane_stress_of gives the MPM's part of it).
-  dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment) const;
+  // (plane_stress_of gives the MPM's part of it). Counts the cell's re-tilings into `counters`.
+  dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment, CouplingCounters& counters) const;
+
+  // The volume of the material the cell stands for, relative to the template's: a re-tiled cell
+  // holds 2^k copies of it.
+  double volume_ratio(const dem::DemCell& cell) const;
 
   // The cell's P-wave modulus M = K + 4G/3 for the CFL condition, from its current coordination and
   // solid fraction (voigt_moduli with the full normal stiffness k_n of a bonded contact).
@@ -56,6 +66,11 @@ class LiveCellModel {
   double time_step_limit(const dem::Mat3& h, const Mat2& L) const;
 
  private:
+  dem::DemCell with_cap(dem::DemCell cell) const {
+    cell.set_retiling_cap(settings_.max_spheres);
+    return cell;
+  }
+
   dem::CellState template_state_;
   dem::Material material_;
   double skin_;

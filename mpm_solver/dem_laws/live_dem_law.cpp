@@ -11,6 +11,7 @@ LiveDemLaw::LiveDemLaw(const dem::DemCell& cell_template, LiveDemSettings settin
 
 std::size_t LiveDemLaw::add_point(PointStress& initial_stress) {
   cells_.push_back(model_.new_cell());  // a deep copy: the point owns its cell
+  counters_.emplace_back();
   modulus_.push_back(0);
   damage_.push_back(0);
   measure(cells_.size() - 1);
@@ -19,7 +20,7 @@ std::size_t LiveDemLaw::add_point(PointStress& initial_stress) {
 }
 
 void LiveDemLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
-  stress = plane_stress_of(model_.advance(cells_[slot], increment));
+  stress = plane_stress_of(model_.advance(cells_[slot], increment, counters_[slot]));
   measure(slot);
 }
 
@@ -30,6 +31,9 @@ void LiveDemLaw::save_state(LawStateWriter& out) const {
 void LiveDemLaw::restore_state(LawStateReader& in) {
   for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
     cells_[slot] = model_.cell_from(in.read_cell("cell_" + std::to_string(slot)));
+    // Every point starts from the template, so its cell's size tells how often it was re-tiled.
+    counters_[slot].retilings = 0;
+    for (std::size_t n = model_.template_size(); n < cells_[slot].size(); n *= 2) ++counters_[slot].retilings;
     measure(slot);
   }
 }
@@ -41,7 +45,7 @@ void LiveDemLaw::measure(std::size_t slot) {
 }
 
 double LiveDemLaw::volume_ratio(std::size_t slot, const Mat2&) const {
-  return cells_[slot].volume() / model_.template_volume();
+  return model_.volume_ratio(cells_[slot]);
 }
 
 double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2&, const Mat2& L) const {
@@ -51,8 +55,8 @@ double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2&, const Mat2& L)
 namespace {
 
 // {"law": "live", "cell": "cell.json"} or {"law": "live", "library": LIB, "template": id}, with the
-// optional "substepping" and "q_h" of every DEM-backed law.
-constexpr std::string_view kKeys[] = {"name", "law", "cell", "library", "template", "substepping", "q_h"};
+// optional "substepping", "q_h" and "retiling" of every DEM-backed law.
+constexpr std::string_view kKeys[] = {"name", "law", "cell", "library", "template", "substepping", "q_h", "retiling"};
 
 std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext& scene) {
   const LiveDemSettings settings = read_live_settings(material);

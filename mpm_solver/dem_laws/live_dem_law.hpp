@@ -32,6 +32,7 @@ class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw {
   const DemBackedLaw* dem_backed() const override { return this; }
 
   StressSource source(std::size_t) const override { return StressSource::live; }
+  CouplingCounters point_counters(std::size_t slot) const override { return counters_[slot]; }
   const dem::DemCell* live_cell(std::size_t slot) const override { return &cells_[slot]; }
   const dem::DemCell& cell(std::size_t slot) const { return cells_[slot]; }
 
@@ -40,6 +41,7 @@ class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw {
 
   LiveCellModel model_;
   std::vector<dem::DemCell> cells_;
+  std::vector<CouplingCounters> counters_;  // re-tilings only: every step of a live point is live
   std::vector<double> modulus_, damage_;
 };
 

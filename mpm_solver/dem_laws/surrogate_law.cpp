@@ -117,7 +117,7 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
   }
   if (!p.cell) {
     p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
-    p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_));
+    p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_, p.counters));
     p.spent = 0;  // the point's own history: its drift is gone
   }
   const dem::CellMeasures m = p.cell->measures();
@@ -131,7 +131,7 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
 void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
                                 PointStress& stress) {
   const surrogate::PointState before = p.state;
-  const dem::Mat3 sigma = model_.advance(*p.cell, increment);
+  const dem::Mat3 sigma = model_.advance(*p.cell, increment, p.counters);
   p.state = state_of(sigma, p.cell->measures());
   stress = plane_stress_of(sigma);
   p.source = StressSource::live;
@@ -252,9 +252,9 @@ using common::Range;
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
 // (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after",
 // "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
-// "servo_inertial_number", "unconverged": "keep" | "replay"}, and the "substepping" and "q_h" of every DEM-backed law.
+// "servo_inertial_number", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
-                                      "error_budget", "k",  "substepping", "q_h", "fallback"};
+                                      "error_budget", "k",  "substepping", "q_h", "retiling", "fallback"};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;

@@ -17,8 +17,9 @@ long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, do
   return n;
 }
 
-long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model) {
-  for (const KinematicIncrement& increment : history) model.advance(cell, increment);
+long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model,
+            CouplingCounters& counters) {
+  for (const KinematicIncrement& increment : history) model.advance(cell, increment, counters);
   return static_cast<long>(history.size());
 }
 

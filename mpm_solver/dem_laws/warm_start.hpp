@@ -17,8 +17,9 @@ namespace grainbank::mpm {
 long drive_to(dem::DemCell& cell, const dem::Mat3& target, double max_strain, double dt, const dem::Substepping& q);
 
 // Re-runs `history` on `cell` (normally a fresh copy of the template): the cell a point of the live
-// law would own after the same increments. Returns the number of increments.
-long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model);
+// law would own after the same increments, counting its re-tilings. Returns the number of increments.
+long replay(dem::DemCell& cell, const std::vector<KinematicIncrement>& history, const LiveCellModel& model,
+            CouplingCounters& counters);
 
 // The replay histories of a law's points as a restart table (law_state_archive.hpp): rows slot,
 // F_inc (4, row-major), L (4), dt, each point's increments in step order.

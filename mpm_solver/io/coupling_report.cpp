@@ -45,7 +45,8 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"servo_unconverged", c.servo_unconverged},
                     {"warm_start_seconds", c.warm_start_seconds},
                     {"enriched_paths", c.enriched_paths},
-                    {"enriched_records", c.enriched_records}});
+                    {"enriched_records", c.enriched_records},
+                    {"retilings", c.retilings}});
   }
   return {{"laws", laws},
           {"skipped_point_steps", solver.skipped_updates()},

@@ -1,10 +1,12 @@
 // A live DEM point driven toward a cell only a few grains thick. Simple shear never gets there (the
 // cell flips to a reduced basis and goes on); flattening does, and the run must then stop with an
 // error naming the material point, the quantity (the cell's width against its interaction range)
-// and the remedy, with every stress finite up to that step.
+// and the remedy, with every stress finite up to that step, unless re-tiling is on: then the cell
+// doubles along its thin width and the point goes on, its volume and F still the point's.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "dem_sampler/cell/preparation.hpp"
@@ -16,9 +18,9 @@ namespace grainbank::mpm {
 namespace {
 
 // One live point (30-sphere snow cell) in a domain deformed homogeneously at L.
-Solver driven_live_point(const dem::DemCell& cell_template, const Mat2& L) {
+Solver driven_live_point(const dem::DemCell& cell_template, const Mat2& L, LiveDemSettings settings = {}) {
   Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
-  const std::size_t law = solver.add_law(std::make_unique<LiveDemLaw>(cell_template, LiveDemSettings{}));
+  const std::size_t law = solver.add_law(std::make_unique<LiveDemLaw>(cell_template, settings));
   solver.add_point(law, Vec2(0.43, 0.37), 1e-2, 0.05);
   solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
   return solver;
@@ -64,6 +66,38 @@ TEST(HardCasesLive, FlattenedLiveCellStopsNamingThePointTheWidthAndTheRemedy) {
     EXPECT_NE(what.find("more spheres"), std::string::npos) << what;
   }
   EXPECT_GT(solver.time(), 0.015) << "the cell stops only when really thin, not at the first squeeze";
+}
+
+TEST(HardCasesLive, FlattenedLiveCellReTilesAndGoesOnAsTheSameMaterial) {
+  Mat2 L;
+  L << 10, 0, 0, -10;  // plane strain at constant volume, to a log strain of 1 at t = 0.1 s
+  LiveDemSettings settings;
+  settings.max_spheres = 30 * 16;
+  Solver solver = driven_live_point(snow_cell(), L, settings);
+  const double volume0 = solver.points()[0].volume;
+  ASSERT_NO_THROW(testing::run_until(solver, 0.1, [](const Solver& s) {
+    ASSERT_TRUE(s.points()[0].stress.in_plane.allFinite()) << "step " << s.steps();
+  }));
+  const auto& law = dynamic_cast<const LiveDemLaw&>(solver.law(0));
+  const dem::DemCell& cell = law.cell(0);
+  const std::uint64_t doublings = law.point_counters(0).retilings;
+  std::printf("t = %g s: %zu spheres, %llu re-tilings\n", solver.time(), cell.size(),
+              static_cast<unsigned long long>(doublings));
+  EXPECT_GE(doublings, 1u);
+  EXPECT_EQ(cell.size(), snow_cell().size() << doublings);
+  EXPECT_NEAR(solver.points()[0].volume, volume0, 1e-6 * volume0) << "the copies are not more material";
+  EXPECT_NEAR(cell.deformation_gradient()(1, 1), solver.points()[0].deformation_gradient(1, 1), 1e-9);
+  EXPECT_NEAR(solver.points()[0].deformation_gradient(1, 1), std::exp(-10 * solver.time()), 1e-6);
+}
+
+TEST(HardCasesLive, ACapBelowTheFirstDoublingStopsTheFlattenedCellAsWithoutReTiling) {
+  Mat2 L;
+  L << 10, 0, 0, -10;
+  LiveDemSettings settings;
+  settings.max_spheres = 2 * 30 - 1;
+  Solver solver = driven_live_point(snow_cell(), L, settings);
+  EXPECT_THROW(testing::run_until(solver, 0.1, [](const Solver&) {}), std::runtime_error);
+  EXPECT_EQ(dynamic_cast<const LiveDemLaw&>(solver.law(0)).cell(0).size(), snow_cell().size());
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 
 #include "dem_sampler/cell/preparation.hpp"
 #include "dem_sampler/cell/snow_preset.hpp"
+#include "mpm_solver/dem_laws/dem_material_input.hpp"
 #include "mpm_solver/dem_laws/live_dem_law.hpp"
 #include "tests/mpm/mpm_test_util.hpp"
 
@@ -81,6 +82,22 @@ TEST(LiveLaw, SeedEquation4LimitsTheStep) {
   EXPECT_NEAR(law.time_step_limit(0, Mat2::Identity(), L), 0.02 * d_min / rate, 1e-15);
   EXPECT_TRUE(std::isinf(law.time_step_limit(0, Mat2::Identity(), Mat2::Zero())));
   EXPECT_GT(law.p_wave_modulus(0), 0);
+}
+
+TEST(LiveLaw, RetilingCapIsReadAndBadKeysAreNamed) {
+  const nlohmann::json material = {{"retiling", {{"max_spheres", 240}}}};
+  EXPECT_EQ(read_live_settings(common::JsonNode(material, "scene.json", "/materials/0")).max_spheres, 240u);
+  EXPECT_EQ(read_live_settings(common::JsonNode(nlohmann::json::object(), "scene.json", "/materials/0")).max_spheres, 0u)
+      << "off unless asked for";
+  const nlohmann::json bad = {{"retiling", {{"cap", 240}}}};
+  try {
+    read_live_settings(common::JsonNode(bad, "scene.json", "/materials/0"));
+    FAIL() << "an unknown key was accepted";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find("scene.json: /materials/0/retiling/cap: unknown key; allowed keys here: max_spheres"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace
