@@ -10,6 +10,7 @@
 #include "dem_sampler/cell/snow_preset.hpp"
 #include "mpm_solver/dem_laws/live_dem_law.hpp"
 #include "mpm_solver/io/restart.hpp"
+#include "tests/dem/dem_test_util.hpp"
 #include "tests/mpm/mpm_test_util.hpp"
 
 namespace grainbank::mpm {
@@ -65,6 +66,45 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
   double friction = 0;
   for (double f : reference.obstacles()[0].tangential_history()) friction = std::max(friction, std::abs(f));
   EXPECT_GT(friction, 0);
+}
+
+// A live point flattened at constant volume: its cell re-tiles (30 -> 60 spheres near t = 0.02 s).
+Solver flattened_live_point(const dem::DemCell& cell) {
+  Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
+  LiveDemSettings settings;
+  settings.max_spheres = 480;
+  solver.add_law(std::make_unique<LiveDemLaw>(cell, settings));
+  solver.add_point(0, Vec2(0.43, 0.37), 1e-2, 0.05);
+  Mat2 L;
+  L << 10, 0, 0, -10;
+  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
+  return solver;
+}
+
+TEST(Restart, ACellReTiledBeforeTheRestartContinuesExactly) {
+  const dem::DemCell cell = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
+  const double dt = 2e-4;
+  Solver reference = flattened_live_point(cell);
+  for (int k = 0; k < 300; ++k) reference.step(dt);
+
+  Solver first = flattened_live_point(cell);
+  for (int k = 0; k < 150; ++k) first.step(dt);
+  const auto live = [](const Solver& s) -> const LiveDemLaw& { return dynamic_cast<const LiveDemLaw&>(s.law(0)); };
+  ASSERT_GT(live(first).cell(0).size(), cell.size()) << "the cell must have re-tiled before the restart";
+  const auto file = std::filesystem::temp_directory_path() / "gb_mpm_restart_retiled_test.h5";
+  std::filesystem::remove(file);
+  io::write_restart(file, first);
+  Solver resumed = flattened_live_point(cell);
+  io::read_restart(file, resumed);
+  EXPECT_EQ(live(resumed).point_counters(0).retilings, live(first).point_counters(0).retilings);
+  for (int k = 0; k < 150; ++k) resumed.step(dt);
+
+  const MaterialPoint &a = reference.points()[0], &b = resumed.points()[0];
+  EXPECT_EQ(a.stress.in_plane, b.stress.in_plane);
+  EXPECT_EQ(a.volume, b.volume);
+  std::string why;
+  EXPECT_TRUE(dem::test::states_identical(live(reference).cell(0).state(), live(resumed).cell(0).state(), &why)) << why;
+  EXPECT_EQ(live(resumed).point_counters(0).retilings, live(reference).point_counters(0).retilings);
 }
 
 // A restart file of another format version (here: version 1, which had no format attribute) is
