@@ -3,6 +3,8 @@
 // A library a sampler is writing is refused; the paths of a run that died are closed by the next.
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "dem_sampler/driver/path_driver.hpp"
 #include "tests/mpm/coupling_test_util.hpp"
 #include "database/store/error.hpp"
@@ -168,6 +170,41 @@ TEST(Enrichment, ARunAddsAtMostItsSnapshotBudget) {
   EXPECT_EQ(snapshot_count(), before + kBudget);
   for (std::int64_t path : paths)
     EXPECT_EQ(link.locked([&](db::Library& l) { return l.records(path).size(); }), static_cast<std::size_t>(kIncrements));
+}
+
+// A re-tiled cell enriches the library like any other: its snapshot keeps its own sphere count
+// and restores to the same cell.
+TEST(Enrichment, ARetiledCellIsSnapshotWithItsOwnSphereCount) {
+  const auto dir = fresh_library_dir();
+  const std::int64_t id = create_library(dir, small_snow_cell());
+  LibraryLink link(dir, id, nullptr);
+  dem::DemCell cell = stored_template(dir, id);
+  cell.set_retiling_cap(16 * cell.size());
+  const std::size_t template_size = cell.size();
+  dem::Mat3 flattening = dem::Mat3::Identity(), L = dem::Mat3::Zero();
+  flattening(0, 0) = std::exp(0.01), flattening(1, 1) = std::exp(-0.01);
+  L(0, 0) = 10, L(1, 1) = -10;
+  std::int64_t path_id = 0;
+  {
+    Enrichment enrichment(link, 1);  // a snapshot after every record
+    RunPath path = enrichment.start({{"start", "template"}});
+    path_id = path.id;
+    for (int k = 0; k < 200 && cell.size() == template_size; ++k) {
+      const dem::Mat3 stress = cell.advance(flattening, 1e-3, dem::Substepping{}).stress;
+      enrichment.add(path, cell, L, stress);
+    }
+    enrichment.finish(path);
+  }
+  ASSERT_EQ(cell.size(), 2 * template_size) << "the cell must re-tile within a log strain of 2";
+  const auto [records, restored] = link.locked([&](db::Library& library) {
+    const std::size_t n = library.records(path_id).size();
+    return std::pair(n, library.restore(library.snapshot_cell(path_id, static_cast<std::int64_t>(n) - 1)));
+  });
+  EXPECT_EQ(restored.size(), cell.size());
+  EXPECT_EQ(restored.cell_matrix(), cell.cell_matrix());
+  EXPECT_EQ(restored.positions(), cell.positions());
+  EXPECT_EQ(restored.measures().bonds, cell.measures().bonds);
+  EXPECT_GE(records, 1u);
 }
 
 }  // namespace
