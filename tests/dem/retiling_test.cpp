@@ -109,6 +109,35 @@ TEST(Retiling, TheCopiesMoveAsTheOriginalAlongTheSamePath) {
   EXPECT_LT(worst, 1e-9 * test::small_spec(64, 31).min_diameter);
 }
 
+TEST(Retiling, ARetiledCellStaysWithinTheSeedSpreadOfCellsTwiceAsLarge) {
+  // Simple shear to γ = 0.3: the friction mobilized (σ_xy / p averaged over the second half of the path)
+  // of a re-tiled 32 -> 64-sphere cell against three 64-sphere cells prepared with other seeds. The
+  // re-tiled cell is one 32-sphere packing repeated, whose own seed spread is wider (√2 for Gaussian
+  // noise), so it must lie within the fresh cells' range widened by that range on each side.
+  const Material mat = test::small_material(true);
+  auto mobilized_friction = [&](DemCell cell) {
+    double sum = 0;
+    int count = 0;
+    for (int k = 0; k < 60; ++k) {
+      const IncrementResult r = cell.advance(test::simple_shear(0.005), 5e-4, Substepping{});
+      if (k >= 30) sum += r.stress(0, 1) / pressure_of(r.stress), ++count;
+    }
+    return std::abs(sum / count);
+  };
+  std::vector<double> fresh;
+  for (std::uint64_t seed : {41, 42, 43}) fresh.push_back(mobilized_friction(prepare_cell(mat, test::small_spec(64, seed))));
+  const DemCell half = prepare_cell(mat, test::small_spec(32, 44));
+  const double retiled =
+      mobilized_friction(DemCell(doubled_along(half.state(), thinnest_axis(half.cell_matrix())), mat, half.skin()));
+  const auto [lo, hi] = std::minmax_element(fresh.begin(), fresh.end());
+  const double spread = *hi - *lo;
+  std::printf("σ_xy/p: fresh 64-sphere cells %.3f %.3f %.3f, re-tiled 32 -> 64: %.3f\n", fresh[0], fresh[1], fresh[2],
+              retiled);
+  EXPECT_GT(spread, 0);
+  EXPECT_GE(retiled, *lo - spread);
+  EXPECT_LE(retiled, *hi + spread);
+}
+
 TEST(Retiling, AFlattenedCellGoesOnPastTheThinLimitAndTheCapStopsItAsBefore) {
   const Material mat = test::small_material(true);
   const DemCell prepared = prepare_cell(mat, test::small_spec(64, 33));
