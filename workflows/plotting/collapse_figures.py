@@ -51,7 +51,8 @@ def series_figures(series, out):
 
 
 def tracked_figures(run_dir, out):
-    """Damage of the tracked points over time and the bond count of their DEM cells (when live)."""
+    """Damage of the tracked points over time and the bonds per sphere of their DEM cells (when live; a
+    re-tiled cell has more spheres and bonds, not more per sphere)."""
     file = Path(run_dir) / "tracked_points.csv"
     if not file.exists():
         return []
@@ -63,18 +64,18 @@ def tracked_figures(run_dir, out):
     if cells:
         figures.time_plot(out / "tracked_bonds.png",
                           [(t, n, f"point {pid}", {"marker": "o"}) for pid, (t, n) in cells.items()],
-                          "t [s]", "intact bonds N_b", title="DEM cells of the tracked points")
+                          "t [s]", "intact bonds per sphere", title="DEM cells of the tracked points")
         made.append("tracked_bonds.png")
     return made
 
 
 def tracked_cell_counts(run_dir):
-    """{point id → (times, bond counts)} from the cells/*.vtk of a run."""
+    """{point id → (times, intact bonds per sphere)} from the cells/*.vtk of a run."""
     times = {vtu.vtu_index(path): t for t, path in vtu.read_pvd(Path(run_dir) / "points.pvd")}
     counts = {}
     for point, files in tracked_cells.tracked_cell_files(run_dir).items():
         shown = [(times[index], path) for index, path in files if index in times]
-        counts[point] = (np.array([t for t, _ in shown]), np.array([tracked_cells.bond_count(p) for _, p in shown]))
+        counts[point] = (np.array([t for t, _ in shown]), np.array([tracked_cells.bonds_per_sphere(p) for _, p in shown]))
     return counts
 
 

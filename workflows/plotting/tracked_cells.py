@@ -16,6 +16,18 @@ def bond_count(vtk_file):
     raise ValueError(f"{vtk_file}: no LINES section")
 
 
+def bonds_per_sphere(vtk_file):
+    """Intact bonds per sphere of a cell VTK file: LINES over VERTICES, unchanged when a cell re-tiles."""
+    spheres = None
+    for line in Path(vtk_file).read_text().splitlines():
+        if line.startswith("VERTICES "):
+            spheres = int(line.split()[1])
+            break
+    if not spheres:
+        raise ValueError(f"{vtk_file}: no VERTICES section")
+    return bond_count(vtk_file) / spheres
+
+
 def cell_matrix(csv_file):
     """The 3 × 3 cell matrix h of a packing CSV (columns are the cell vectors) [m]."""
     rows = [line for line in Path(csv_file).read_text().splitlines() if line.strip() and not line.startswith("#")]
