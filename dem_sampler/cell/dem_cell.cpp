@@ -380,10 +380,17 @@ IntMat3 DemCell::reduce_if_needed() {
   return m;
 }
 
-Mat3 DemCell::retile_if_needed() {
+bool DemCell::due_to_retile() const {
   const double cutoff = 2 * max_radius_ + skin_;
-  if (retiling_cap_ < 2 * size() || perpendicular_widths(h_).minCoeff() >= kRetileMargin * 2 * cutoff)
-    return Mat3::Identity();
+  return perpendicular_widths(h_).minCoeff() < kRetileMargin * 2 * cutoff;
+}
+
+bool DemCell::thin_beyond_retiling_cap() const {
+  return retiling_cap_ > 0 && retiling_cap_ < 2 * size() && due_to_retile();
+}
+
+Mat3 DemCell::retile_if_needed() {
+  if (retiling_cap_ < 2 * size() || !due_to_retile()) return Mat3::Identity();
   const int axis = thinnest_axis(h_);
   const std::int64_t flips = flips_, list_builds = list_builds_;
   const double local_damping = local_damping_;

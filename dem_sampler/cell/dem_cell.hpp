@@ -94,6 +94,9 @@ class DemCell {
   // until it is too thin and throws CellTooThinError, as without re-tiling. 0 (the default): off.
   void set_retiling_cap(std::size_t max_spheres) { retiling_cap_ = max_spheres; }
   static constexpr double kRetileMargin = 1.1;
+  // True when re-tiling is on and the cell is due to re-tile but doubling would pass the cap: the
+  // caller may replace it (cell/regeneration.hpp) before it becomes too thin.
+  bool thin_beyond_retiling_cap() const;
 
   CellMeasures measures() const;
   // The stress at the last measured step (measures().stress without the other sums).
@@ -136,6 +139,8 @@ class DemCell {
   IntMat3 reduce_if_needed();
   // Re-tiles if due (see set_retiling_cap); returns M (identity if nothing changed).
   Mat3 retile_if_needed();
+  // The smallest width is within kRetileMargin of twice the interaction range.
+  bool due_to_retile() const;
   // Velocity Verlet halves: first kick + drift (returns the largest squared fluctuation displacement
   // since the last list build), and the closing kick. Damped = Cundall local damping on.
   template <bool Damped>

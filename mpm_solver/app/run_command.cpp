@@ -100,6 +100,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   };
 
   const Clock::time_point loop_start = Clock::now();
+  const double start_time = solver.time();
   snapshot();
   record(0);
   Schedule outputs{scene.output_interval, next_after(solver.time(), scene.output_interval)};
@@ -118,9 +119,11 @@ nlohmann::json run_scene(const RunOptions& options) {
     if (outputs.due(solver.time())) snapshot(), ++outputs.next;
     if (options.progress && seconds_since(last_report) > 2) {
       last_report = Clock::now();
+      // The ETA extrapolates this run's own progress: a resumed run started at start_time, not at 0.
       const double done = solver.time() / scene.end_time, elapsed = seconds_since(loop_start);
+      const double resumed_done = (solver.time() - start_time) / (scene.end_time - start_time);
       std::fprintf(stderr, "\rt = %.4g s (%.1f%%), step %ld, dt = %.3g s, ETA %.0f s   ", solver.time(), 100 * done,
-                   solver.steps(), dt, elapsed * (1 - done) / done);
+                   solver.steps(), dt, elapsed * (1 - resumed_done) / resumed_done);
     }
   }
   if (options.progress) std::fprintf(stderr, "\n");

@@ -26,6 +26,8 @@ struct CouplingCounters {
   double estimated_error_sum = 0;           // Σ over lookups of the lookup's estimated error [Pa]
   std::uint64_t enriched_paths = 0, enriched_records = 0;  // written to the run's own shard
   std::uint64_t retilings = 0;              // doublings of live cells (dem_sampler/cell/retiling.hpp)
+  std::uint64_t regenerations = 0;          // live cells replaced past the re-tiling cap (cell/regeneration.hpp)
+  std::uint64_t regenerations_unconverged = 0;  // of those, the ones whose servo missed the worn cell's stress
 
   CouplingCounters& operator+=(const CouplingCounters& o) {
     hits += o.hits, misses += o.misses, live_updates += o.live_updates, went_live += o.went_live;
@@ -33,6 +35,7 @@ struct CouplingCounters {
     warm_start_servo_steps += o.warm_start_servo_steps, servo_unconverged += o.servo_unconverged;
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;
     enriched_paths += o.enriched_paths, enriched_records += o.enriched_records, retilings += o.retilings;
+    regenerations += o.regenerations, regenerations_unconverged += o.regenerations_unconverged;
     return *this;
   }
   double hit_rate() const { return hits + misses ? double(hits) / double(hits + misses) : 0.0; }

@@ -29,6 +29,8 @@ class LawStateReader {
   virtual ~LawStateReader() = default;
   // Throw with the file and name when the entry is missing or has another number of columns.
   virtual std::vector<double> read_table(const std::string& name, std::size_t columns) = 0;
+  // Whether the file holds the entry: a law reads what an older build did not write, or not.
+  virtual bool has_table(const std::string& name) = 0;
   virtual dem::CellState read_cell(const std::string& name) = 0;
 };
 

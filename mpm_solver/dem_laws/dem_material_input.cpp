@@ -18,8 +18,15 @@ LiveDemSettings read_live_settings(const JsonNode& material) {
   }
   s.q_h = material.number_or("q_h", s.q_h, Range::positive());
   if (const auto retiling = material.find("retiling")) {
-    retiling->allow_only({"max_spheres"});
+    retiling->allow_only({"max_spheres", "beyond_cap"});
     s.max_spheres = static_cast<std::size_t>(retiling->integer_or("max_spheres", 0, 0, 100000000));
+    if (const auto beyond = retiling->find("beyond_cap")) {
+      const std::string name = beyond->string();
+      if (name != "stop" && name != "regenerate") beyond->fail("expected \"stop\" or \"regenerate\"");
+      s.regenerate_beyond_cap = name == "regenerate";
+      if (s.regenerate_beyond_cap && s.max_spheres == 0)
+        beyond->fail("\"regenerate\" needs a \"max_spheres\" cap above the cell's sphere count");
+    }
   }
   return s;
 }

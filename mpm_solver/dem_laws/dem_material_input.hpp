@@ -13,7 +13,8 @@
 namespace grainbank::mpm {
 
 // "substepping": {"q_t", "q_n", "q_sigma"} and "q_h" (seed Eqs. 3 and 4), and "retiling":
-// {"max_spheres"} (0 or absent: off), defaults where absent.
+// {"max_spheres" (0 or absent: off), "beyond_cap": "stop" (default) | "regenerate"}, defaults where
+// absent.
 LiveDemSettings read_live_settings(const common::JsonNode& material);
 
 // Exactly one of "cell" (a cell.json, prepared here) and "library" with "template" (loaded).

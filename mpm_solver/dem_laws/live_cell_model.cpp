@@ -7,6 +7,8 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "dem_sampler/cell/regeneration.hpp"
+
 namespace grainbank::mpm {
 
 PointStress plane_stress_of(const dem::Mat3& s) {
@@ -28,6 +30,7 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
   double solid_mass = 0;
   for (double ri : r) solid_mass += material_.density * 4.0 / 3.0 * std::numbers::pi * ri * ri * ri;
   template_volume_ = cell_template.volume();
+  template_volume_ratio_ = cell_template.deformation_gradient().determinant();
   density_ = solid_mass / template_volume_;
   mean_radius_ = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
   min_diameter_ = 2 * *std::min_element(r.begin(), r.end());
@@ -35,6 +38,14 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
 
 dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& increment,
                                  CouplingCounters& counters) const {
+  if (settings_.regenerate_beyond_cap && cell.thin_beyond_retiling_cap()) {
+    dem::RegenerationSettings regeneration;
+    regeneration.q_t = settings_.substepping.q_t;
+    dem::Regeneration fresh = dem::regenerate(cell, template_state_, regeneration);
+    cell = with_cap(std::move(fresh.cell));
+    ++counters.regenerations;
+    if (!fresh.servo.converged) ++counters.regenerations_unconverged;
+  }
   std::size_t spheres = cell.size();
   const dem::Mat3 stress = cell.advance(embed_plane_strain(increment.F), increment.dt, settings_.substepping).stress;
   for (; spheres < cell.size(); spheres *= 2) ++counters.retilings;
@@ -42,9 +53,7 @@ dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& i
 }
 
 double LiveCellModel::volume_ratio(const dem::DemCell& cell) const {
-  // Exact: the sphere counts' ratio is a power of two, and re-tiling doubles the volume exactly.
-  const double copies = static_cast<double>(cell.size()) / static_cast<double>(template_size());
-  return cell.volume() / (template_volume_ * copies);
+  return cell.deformation_gradient().determinant() / template_volume_ratio_;
 }
 
 ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t) {

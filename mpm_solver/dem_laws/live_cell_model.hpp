@@ -14,6 +14,7 @@ struct LiveDemSettings {
   dem::Substepping substepping;  // Q_t, Q_n, Q_σ of seed Eq. 3 and Fig. 3
   double q_h = 0.01;             // Q_h of seed Eq. 4: cell walls move at most Q_h d_min per MPM step
   std::size_t max_spheres = 0;   // re-tiling cap of every cell (DemCell::set_retiling_cap; 0: off)
+  bool regenerate_beyond_cap = false;  // past the cap: regenerate the cell (true) or let it stop (false)
 };
 
 // The MPM momentum balance needs a symmetric stress; Love–Weber stress is symmetric only at
@@ -52,11 +53,13 @@ class LiveCellModel {
   }
 
   // Drives the cell through the in-plane increment; returns its regressed 3D stress
-  // (plane_stress_of gives the MPM's part of it). Counts the cell's re-tilings into `counters`.
+  // (plane_stress_of gives the MPM's part of it). A cell due to re-tile beyond the cap is first
+  // regenerated from the template (dem_sampler/cell/regeneration.hpp) when the settings say so.
+  // Counts the cell's re-tilings and regenerations into `counters`.
   dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment, CouplingCounters& counters) const;
 
-  // The volume of the material the cell stands for, relative to the template's: a re-tiled cell
-  // holds 2^k copies of it.
+  // The volume of the material the cell stands for, relative to the template's: det F of the cell
+  // over the template's. Re-tiling and regeneration both keep a cell's F, so neither moves it.
   double volume_ratio(const dem::DemCell& cell) const;
 
   // The cell's P-wave modulus M = K + 4G/3 for the CFL condition, from its current coordination and
@@ -75,7 +78,7 @@ class LiveCellModel {
   dem::Material material_;
   double skin_;
   LiveDemSettings settings_;
-  double density_, mean_radius_, min_diameter_, template_volume_;
+  double density_, mean_radius_, min_diameter_, template_volume_, template_volume_ratio_;
 };
 
 }  // namespace grainbank::mpm

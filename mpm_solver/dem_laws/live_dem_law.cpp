@@ -24,16 +24,37 @@ void LiveDemLaw::update(std::size_t slot, const KinematicIncrement& increment, c
   measure(slot);
 }
 
+namespace {
+constexpr const char* kCounterTable = "live_counters";  // per point: retilings, regenerations, unconverged
+constexpr std::size_t kCounterColumns = 3;
+}  // namespace
+
 void LiveDemLaw::save_state(LawStateWriter& out) const {
-  for (std::size_t slot = 0; slot < cells_.size(); ++slot) out.write_cell("cell_" + std::to_string(slot), cells_[slot]);
+  std::vector<double> counters;
+  for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
+    out.write_cell("cell_" + std::to_string(slot), cells_[slot]);
+    const CouplingCounters& c = counters_[slot];
+    counters.insert(counters.end(), {double(c.retilings), double(c.regenerations), double(c.regenerations_unconverged)});
+  }
+  out.write_table(kCounterTable, counters, kCounterColumns);
 }
 
 void LiveDemLaw::restore_state(LawStateReader& in) {
+  const std::vector<double> counters =
+      in.has_table(kCounterTable) ? in.read_table(kCounterTable, kCounterColumns) : std::vector<double>{};
   for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
     cells_[slot] = model_.cell_from(in.read_cell("cell_" + std::to_string(slot)));
-    // Every point starts from the template, so its cell's size tells how often it was re-tiled.
-    counters_[slot].retilings = 0;
-    for (std::size_t n = model_.template_size(); n < cells_[slot].size(); n *= 2) ++counters_[slot].retilings;
+    CouplingCounters& c = counters_[slot];
+    if (counters.size() == kCounterColumns * cells_.size()) {
+      c.retilings = static_cast<std::uint64_t>(counters[kCounterColumns * slot]);
+      c.regenerations = static_cast<std::uint64_t>(counters[kCounterColumns * slot + 1]);
+      c.regenerations_unconverged = static_cast<std::uint64_t>(counters[kCounterColumns * slot + 2]);
+    } else {
+      // A restart of a build that did not store the counters had no regeneration: every point
+      // started from the template, so its cell's size tells how often it was re-tiled.
+      c = CouplingCounters{};
+      for (std::size_t n = model_.template_size(); n < cells_[slot].size(); n *= 2) ++c.retilings;
+    }
     measure(slot);
   }
 }

@@ -46,7 +46,9 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"warm_start_seconds", c.warm_start_seconds},
                     {"enriched_paths", c.enriched_paths},
                     {"enriched_records", c.enriched_records},
-                    {"retilings", c.retilings}});
+                    {"retilings", c.retilings},
+                    {"regenerations", c.regenerations},
+                    {"regenerations_unconverged", c.regenerations_unconverged}});
   }
   return {{"laws", laws},
           {"skipped_point_steps", solver.skipped_updates()},

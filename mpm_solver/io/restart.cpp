@@ -63,6 +63,7 @@ class LawEntries : public LawStateWriter, public LawStateReader {
   std::vector<double> read_table(const std::string& name, std::size_t columns) override {
     return h5::read_array<double>(root_, prefix_ + name, columns);
   }
+  bool has_table(const std::string& name) override { return h5::has_child(root_, prefix_ + name); }
   dem::CellState read_cell(const std::string& name) override {
     return db::read_cell_state(h5::open_group(root_, prefix_ + name)).state;
   }

@@ -21,7 +21,7 @@ std::ofstream open_csv(const std::filesystem::path& file, const char* header) {
 SeriesCsv::SeriesCsv(const std::filesystem::path& file)
     : out_(open_csv(file, "t,dt,step,kinetic_energy,front,max_height,max_velocity,limit_wave,limit_contact,limit_law,"
                         "hits,misses,live_cells,hit_rate,mean_estimated_error,went_live,warm_start_time,skipped_point_steps,"
-                        "retilings")) {}
+                        "retilings,regenerations")) {}
 
 void SeriesCsv::write(const Solver& solver, double last_dt) {
   const FlowMeasures m = measure_flow(solver.points());
@@ -32,7 +32,7 @@ void SeriesCsv::write(const Solver& solver, double last_dt) {
   const CouplingCounters total = coupling_counters(solver);
   out_ << ',' << c.hits << ',' << c.misses << ',' << c.live << ',' << c.hit_rate() << ',' << c.mean_estimated_error << ','
        << total.went_live << ',' << total.warm_start_seconds << ',' << solver.skipped_updates() << ','
-       << total.retilings << '\n';
+       << total.retilings << ',' << total.regenerations << '\n';
 }
 
 TrackedCsv::TrackedCsv(const std::filesystem::path& file, std::vector<std::uint32_t> ids)

@@ -5,9 +5,11 @@
 // doubles along its thin width and the point goes on, its volume and F still the point's.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "dem_sampler/cell/preparation.hpp"
 #include "dem_sampler/cell/snow_preset.hpp"
@@ -98,6 +100,48 @@ TEST(HardCasesLive, ACapBelowTheFirstDoublingStopsTheFlattenedCellAsWithoutReTil
   Solver solver = driven_live_point(snow_cell(), L, settings);
   EXPECT_THROW(testing::run_until(solver, 0.1, [](const Solver&) {}), std::runtime_error);
   EXPECT_EQ(dynamic_cast<const LiveDemLaw&>(solver.law(0)).cell(0).size(), snow_cell().size());
+}
+
+TEST(HardCasesLive, PastTheCapTheFlattenedCellIsRegeneratedAndTheMaterialGoesOn) {
+  Mat2 L;
+  L << 10, 0, 0, -10;  // to a log strain of 1 at t = 0.1 s; without a new cell it stops near 0.025 s
+  LiveDemSettings settings;
+  settings.max_spheres = 2 * 30;  // one doubling, then regeneration
+  settings.regenerate_beyond_cap = true;
+  Solver solver = driven_live_point(snow_cell(), L, settings);
+  const auto& law = dynamic_cast<const LiveDemLaw&>(solver.law(0));
+  const double volume0 = solver.points()[0].volume;
+  // Per step: the largest change of a stress component, and whether the cell was regenerated.
+  std::vector<double> change;
+  std::vector<Mat2> stress{solver.points()[0].stress.in_plane};
+  std::vector<std::size_t> regenerated_at;
+  ASSERT_NO_THROW(testing::run_until(solver, 0.1, [&](const Solver& s) {
+    const Mat2& now = s.points()[0].stress.in_plane;
+    ASSERT_TRUE(now.allFinite()) << "step " << s.steps();
+    ASSERT_LE(law.cell(0).size(), settings.max_spheres);
+    change.push_back((now - stress.back()).cwiseAbs().maxCoeff());
+    stress.push_back(now);
+    if (law.point_counters(0).regenerations > regenerated_at.size()) regenerated_at.push_back(change.size() - 1);
+  }));
+  const CouplingCounters c = law.point_counters(0);
+  std::printf("t = %g s: %llu re-tilings, %llu regenerations (%llu unconverged)\n", solver.time(),
+              static_cast<unsigned long long>(c.retilings), static_cast<unsigned long long>(c.regenerations),
+              static_cast<unsigned long long>(c.regenerations_unconverged));
+  ASSERT_GE(regenerated_at.size(), 1u);
+  EXPECT_GE(c.retilings, 1u) << "the cap allowed one doubling first";
+  // The new cell keeps the point's F, so its volume: the drive is isochoric.
+  EXPECT_NEAR(solver.points()[0].volume, volume0, 1e-6 * volume0);
+  EXPECT_NEAR(law.cell(0).deformation_gradient()(1, 1), solver.points()[0].deformation_gradient(1, 1), 1e-9);
+  // The new cell carries the worn one's stress: at a regeneration the point's stress moves by no more
+  // than an ordinary step of the 20 before it plus the servo's tolerance (5 % of the stress scale).
+  for (std::size_t k : regenerated_at) {
+    ASSERT_GE(k, 20u);
+    const double ordinary = *std::max_element(change.begin() + static_cast<long>(k) - 20, change.begin() + static_cast<long>(k));
+    const double scale = stress[k].cwiseAbs().maxCoeff();
+    std::printf("regeneration at step %zu: stress moved %.1f Pa; ordinary steps before it up to %.1f Pa, scale %.1f Pa\n",
+                k + 1, change[k], ordinary, scale);
+    EXPECT_LE(change[k], ordinary + 0.05 * scale);
+  }
 }
 
 }  // namespace

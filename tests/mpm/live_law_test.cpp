@@ -98,6 +98,23 @@ TEST(LiveLaw, RetilingCapIsReadAndBadKeysAreNamed) {
               std::string::npos)
         << e.what();
   }
+  const nlohmann::json regenerate = {{"retiling", {{"max_spheres", 240}, {"beyond_cap", "regenerate"}}}};
+  EXPECT_TRUE(read_live_settings(common::JsonNode(regenerate, "scene.json", "/materials/0")).regenerate_beyond_cap);
+  EXPECT_FALSE(read_live_settings(common::JsonNode(material, "scene.json", "/materials/0")).regenerate_beyond_cap)
+      << "past the cap the run stops unless asked otherwise";
+  const auto message = [](const nlohmann::json& m) {
+    try {
+      read_live_settings(common::JsonNode(m, "scene.json", "/materials/0"));
+    } catch (const std::exception& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_NE(message({{"retiling", {{"max_spheres", 240}, {"beyond_cap", "restart"}}}})
+                .find("/materials/0/retiling/beyond_cap: expected \"stop\" or \"regenerate\""),
+            std::string::npos);
+  EXPECT_NE(message({{"retiling", {{"beyond_cap", "regenerate"}}}}).find("needs a \"max_spheres\" cap"),
+            std::string::npos);
 }
 
 }  // namespace

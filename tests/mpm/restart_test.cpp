@@ -68,11 +68,13 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
   EXPECT_GT(friction, 0);
 }
 
-// A live point flattened at constant volume: its cell re-tiles (30 -> 60 spheres near t = 0.02 s).
-Solver flattened_live_point(const dem::DemCell& cell) {
+// A live point flattened at constant volume: its cell re-tiles (30 -> 60 spheres near t = 0.02 s)
+// or, with a cap below that, is regenerated.
+Solver flattened_live_point(const dem::DemCell& cell, std::size_t max_spheres = 480, bool regenerate = false) {
   Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
   LiveDemSettings settings;
-  settings.max_spheres = 480;
+  settings.max_spheres = max_spheres;
+  settings.regenerate_beyond_cap = regenerate;
   solver.add_law(std::make_unique<LiveDemLaw>(cell, settings));
   solver.add_point(0, Vec2(0.43, 0.37), 1e-2, 0.05);
   Mat2 L;
@@ -105,6 +107,37 @@ TEST(Restart, ACellReTiledBeforeTheRestartContinuesExactly) {
   std::string why;
   EXPECT_TRUE(dem::test::states_identical(live(reference).cell(0).state(), live(resumed).cell(0).state(), &why)) << why;
   EXPECT_EQ(live(resumed).point_counters(0).retilings, live(reference).point_counters(0).retilings);
+}
+
+TEST(Restart, ACellRegeneratedBeforeTheRestartContinuesExactly) {
+  const dem::DemCell cell = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
+  const double dt = 2e-4;
+  const auto run = [&](Solver& s, int steps) {
+    for (int k = 0; k < steps; ++k) s.step(dt);
+  };
+  const auto live = [](const Solver& s) -> const LiveDemLaw& { return dynamic_cast<const LiveDemLaw&>(s.law(0)); };
+  Solver reference = flattened_live_point(cell, 59, true);
+  run(reference, 300);
+
+  Solver first = flattened_live_point(cell, 59, true);
+  run(first, 150);
+  ASSERT_GE(live(first).point_counters(0).regenerations, 1u) << "the cell must have been regenerated before the restart";
+  const auto file = std::filesystem::temp_directory_path() / "gb_mpm_restart_regenerated_test.h5";
+  std::filesystem::remove(file);
+  io::write_restart(file, first);
+  Solver resumed = flattened_live_point(cell, 59, true);
+  io::read_restart(file, resumed);
+  EXPECT_EQ(live(resumed).point_counters(0).regenerations, live(first).point_counters(0).regenerations);
+  run(resumed, 150);
+
+  const MaterialPoint &a = reference.points()[0], &b = resumed.points()[0];
+  EXPECT_EQ(a.stress.in_plane, b.stress.in_plane);
+  EXPECT_EQ(a.volume, b.volume);
+  std::string why;
+  EXPECT_TRUE(dem::test::states_identical(live(reference).cell(0).state(), live(resumed).cell(0).state(), &why)) << why;
+  EXPECT_EQ(live(resumed).point_counters(0).regenerations, live(reference).point_counters(0).regenerations);
+  EXPECT_EQ(live(resumed).point_counters(0).regenerations_unconverged,
+            live(reference).point_counters(0).regenerations_unconverged);
 }
 
 // A restart file of another format version (here: version 1, which had no format attribute) is

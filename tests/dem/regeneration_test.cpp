@@ -1,0 +1,119 @@
+// Regeneration: a fresh cell replacing a worn one carries the worn cell's deformation gradient, its
+// damage to one bond, and its stress within the servo's tolerance, which it then holds at rest; the
+// bonds that break first are the most tensile ones.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "dem_sampler/cell/periodic_cell.hpp"
+#include "dem_sampler/cell/regeneration.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
+
+namespace grainbank::dem {
+namespace {
+
+const DemCell& snow_template() {
+  static const DemCell cell = prepare_cell(snow_material(), snow_preparation(30, 5));
+  return cell;
+}
+
+// The template flattened in plane strain (x stretched, y squeezed) until it has lost bonds.
+DemCell worn_cell() {
+  DemCell cell = snow_template();
+  Mat3 step = Mat3::Identity();
+  step(0, 0) = std::exp(2e-3);
+  step(1, 1) = std::exp(-2e-3);
+  for (int k = 0; k < 100; ++k) cell.advance(step, 2e-4, Substepping{});
+  return cell;
+}
+
+Mat3 symmetric_part(const Mat3& m) { return 0.5 * (m + m.transpose()); }
+
+double normal_traction(const CellState& st, std::size_t k, const Mat3& stress) {
+  const Pair& p = st.pairs[k];
+  const Vec3 n = (st.h * (st.reduced_position[p.j] + shift_vector(static_cast<int>(p.image)).cast<double>() -
+                          st.reduced_position[p.i]))
+                     .normalized();
+  return n.dot(stress * n);
+}
+
+TEST(Regeneration, AFreshCellTakesOverTheWornCellsDeformationDamageAndStress) {
+  const DemCell worn = worn_cell();
+  const CellMeasures w = worn.measures();
+  const CellMeasures t = snow_template().measures();
+  ASSERT_GT(w.damage, 0.05) << "the flattening must have broken bonds";
+  ASSERT_GT(t.bonds, 0);
+
+  RegenerationSettings settings;
+  const Regeneration r = regenerate(worn, snow_template().state(), settings);
+  const DemCell& cell = r.cell;
+  std::printf("worn: D = %.3f, σ_xx %.1f σ_yy %.1f σ_zz %.1f Pa; servo %ld steps, residual %.1f Pa, %lld bonds broken\n",
+              w.damage, worn.stress()(0, 0), worn.stress()(1, 1), worn.stress()(2, 2), r.servo.steps,
+              r.servo.residual, static_cast<long long>(r.bonds_broken));
+
+  EXPECT_EQ(cell.size(), snow_template().size());
+  EXPECT_LT((cell.deformation_gradient() - worn.deformation_gradient()).norm(), 1e-12);
+  EXPECT_GT(cell.time(), worn.time()) << "the clock goes on through the servo";
+  // Seed Eq. 6 on the fresh cell's own N_b(0): the kept bonds are (1 − D) N_b(0), rounded.
+  const double initial = static_cast<double>(t.bonds) / (1 - t.damage);
+  EXPECT_EQ(t.bonds - r.bonds_broken, std::llround((1 - w.damage) * initial));
+  EXPECT_GE(cell.measures().damage, w.damage - 0.5 / initial);
+
+  // The stress: converged within the tolerance, then held at rest (the windowed mean, as the servo
+  // judges it) within twice that.
+  ASSERT_TRUE(r.servo.converged);
+  const Mat3 target = symmetric_part(worn.stress());
+  const double tolerance =
+      settings.tolerance_fraction * std::max(target.cwiseAbs().maxCoeff(),
+                                             settings.scale_floor * symmetric_part(snow_template().stress()).cwiseAbs().maxCoeff());
+  EXPECT_LE(r.servo.residual, tolerance);
+  DemCell held = cell;
+  Mat3 mean = Mat3::Zero();
+  const int steps = 200;
+  for (int k = 0; k < steps; ++k) {
+    held.step_with_velocity_gradient(Mat3::Zero(), held.time_step(settings.q_t));
+    mean += symmetric_part(held.stress()) / steps;
+  }
+  EXPECT_LE((mean - target).cwiseAbs().maxCoeff(), 2 * tolerance) << "mean\n" << mean << "\ntarget\n" << target;
+}
+
+TEST(Regeneration, TheMostTensileBondsBreakFirst) {
+  CellState st = snow_template().state();
+  Mat3 tension = Mat3::Zero();
+  tension(0, 0) = 1000;  // uniaxial tension along x: bonds along x carry it
+  const auto intact = std::count_if(st.bonds.begin(), st.bonds.end(), [](const Bond& b) { return b.intact; });
+  const std::int64_t keep = intact / 2;
+  const CellState before = st;
+  EXPECT_EQ(break_most_tensile_bonds(st, tension, keep), intact - keep);
+  double weakest_broken = 1e300, strongest_kept = -1e300, broken_sum = 0;
+  for (std::size_t k = 0; k < st.bonds.size(); ++k) {
+    if (!before.bonds[k].intact) continue;
+    const double traction = normal_traction(st, k, tension);
+    if (st.bonds[k].intact) {
+      strongest_kept = std::max(strongest_kept, traction);
+    } else {
+      weakest_broken = std::min(weakest_broken, traction);
+      broken_sum += traction;
+    }
+  }
+  EXPECT_GE(weakest_broken, strongest_kept);
+  // Over isotropic bonds the mean of n_x² is 1/3; the broken half leans toward x.
+  EXPECT_GT(broken_sum / static_cast<double>(intact - keep), 1000.0 / 3);
+  // Asking to keep more than are intact breaks nothing.
+  EXPECT_EQ(break_most_tensile_bonds(st, tension, intact), 0);
+}
+
+TEST(Regeneration, BadSettingsAreRefused) {
+  const DemCell worn = snow_template();
+  RegenerationSettings s;
+  s.tolerance_fraction = 0;
+  EXPECT_THROW(regenerate(worn, worn.state(), s), std::invalid_argument);
+  s = RegenerationSettings{};
+  s.max_servo_steps = 0;
+  EXPECT_THROW(regenerate(worn, worn.state(), s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace grainbank::dem
