@@ -105,8 +105,10 @@ void LibraryLaw::go_live(std::size_t slot, Point& p, const Mat2& F_before, const
     increments = replay(*p.cell, before, model_, p.counters);
     origin["start"] = "replay";
   } else {
+    const std::size_t spheres = p.cell->size();
     increments = drive_to(*p.cell, embed_plane_strain(F_before), settings_.max_drive_strain, dt,
                           settings_.live.substepping);
+    LiveCellModel::count_retilings(spheres, *p.cell, p.counters);
     origin["start"] = snapshot ? nlohmann::json{{"path", answer.nearest.path_id}, {"record", answer.nearest.record_index}}
                                : nlohmann::json("template");
   }

@@ -46,10 +46,14 @@ dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& i
     ++counters.regenerations;
     if (!fresh.servo.converged) ++counters.regenerations_unconverged;
   }
-  std::size_t spheres = cell.size();
+  const std::size_t spheres = cell.size();
   const dem::Mat3 stress = cell.advance(embed_plane_strain(increment.F), increment.dt, settings_.substepping).stress;
-  for (; spheres < cell.size(); spheres *= 2) ++counters.retilings;
+  count_retilings(spheres, cell, counters);
   return stress;
+}
+
+void LiveCellModel::count_retilings(std::size_t spheres_before, const dem::DemCell& cell, CouplingCounters& counters) {
+  for (std::size_t n = spheres_before; n < cell.size(); n *= 2) ++counters.retilings;
 }
 
 double LiveCellModel::volume_ratio(const dem::DemCell& cell) const {

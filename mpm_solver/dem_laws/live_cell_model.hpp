@@ -57,6 +57,9 @@ class LiveCellModel {
   // regenerated from the template (dem_sampler/cell/regeneration.hpp) when the settings say so.
   // Counts the cell's re-tilings and regenerations into `counters`.
   dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment, CouplingCounters& counters) const;
+  // Counts the doublings of a cell that had `spheres_before` spheres into `counters` (for cells
+  // driven other than by advance, e.g. a warm start's drive_to).
+  static void count_retilings(std::size_t spheres_before, const dem::DemCell& cell, CouplingCounters& counters);
 
   // The volume of the material the cell stands for, relative to the template's: det F of the cell
   // over the template's. Re-tiling and regeneration both keep a cell's F, so neither moves it.

@@ -53,7 +53,7 @@ void LiveDemLaw::restore_state(LawStateReader& in) {
       // A restart of a build that did not store the counters had no regeneration: every point
       // started from the template, so its cell's size tells how often it was re-tiled.
       c = CouplingCounters{};
-      for (std::size_t n = model_.template_size(); n < cells_[slot].size(); n *= 2) ++c.retilings;
+      LiveCellModel::count_retilings(model_.template_size(), cells_[slot], c);
     }
     measure(slot);
   }
