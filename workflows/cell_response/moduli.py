@@ -1,0 +1,148 @@
+"""Small-strain moduli of prepared frictional cells against the effective-medium (Voigt) estimate
+(issue 18, "cell response against theory").
+
+Each cell (`dem_sampler run`, prepared dense or loose, no bonds, contacts carrying the full k_n, μ_p = 0.5) is strained by
+`STRAIN` slowly (a tenth of its strain per 1e-3 s, so the grains relax as it goes) and then held
+still; the stress change against the same cell left alone as long (a loose packing may still creep)
+gives, with tension-positive σ and Δσ = λ tr ε I
++ 2 G ε for an isotropic linear solid:
+- in-plane isotropic compression ε = −e diag(1, 1, 0): λ = −Δσ_zz / (2e), G = (Δσ_zz − Δσ_xx) / (2e),
+  K = λ + 2G/3;
+- pure shear ε = e diag(1, −1, 0): G = (Δσ_xx − Δσ_yy) / (4e);
+- simple shear γ = 2e: G = Δσ_xy / (2e).
+The Voigt (affine) estimate at the cell's own φ and Z, mean radius R:
+K_V = φ Z k_n / (6πR), G_V = φ Z (2 k_n + 3 k_t) / (20πR) (mpm_solver's voigt_moduli). The relaxed
+moduli lie below the affine ones (relaxation can only lower the elastic energy); how far below,
+especially for G, measures the non-affine softening that effective-medium theory misses (Makse et
+al. 1999, PRL 83:5070; Agnolin & Roux 2007, PRE 76:061304).
+
+  /usr/bin/python3 moduli.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--pressures 1000 10000] [--preparations dense loose]
+                             [--spheres 125]
+
+Writes OUT/moduli.csv (one row per cell) and OUT/moduli.md (the table, mean ± standard deviation over
+seeds).
+"""
+import argparse
+import csv
+import json
+import math
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from plotting import environment  # noqa: E402
+
+MATERIAL = {"density": 920, "k_n": 2000, "k_t": 600, "restitution": 0.3, "friction": 0.5, "contact_weight": 1}
+DIAMETER = {"min": 3.4e-4, "max": 4.0e-4}
+STRAIN = 1e-5
+LOADING, HOLD = 1e-3, 1e-3  # [s]
+
+# In-plane strain directions (unit strain); the moduli from the stress change per unit strain.
+LOADS = {
+    "rest": [[0, 0], [0, 0]],  # the same cell left alone: what it drifts by without strain is not a modulus
+    "compression": [[-1, 0], [0, -1]],
+    "pure_shear": [[1, 0], [0, -1]],
+    "simple_shear": [[0, 2], [0, 0]],
+}
+
+
+# Compressed without friction the packing is dense and well connected; with the grains' own friction
+# it jams looser, with fewer contacts, nearer the isostatic Z = 4 of frictional spheres.
+PREPARATIONS = {"dense": 0.0, "loose": 0.5}  # friction while compressing
+
+
+def cell_spec(seed, pressure, spheres, preparation):
+    return {"material": MATERIAL, "preparation": {"spheres": spheres, "diameter": DIAMETER, "pressure": pressure,
+                                                  "seed": seed, "compression_friction": PREPARATIONS[preparation]}}
+
+
+def path_spec(direction):
+    rate = [[STRAIN / LOADING * v for v in row] for row in direction]
+    return {"segments": [{"L": rate, "duration": LOADING}, {"L": [[0, 0], [0, 0]], "duration": HOLD}],
+            "record_interval": 1e-4}
+
+
+def stress_change(table):
+    """Tension-positive stress change (xx, yy, zz, xy) from the first record to the last."""
+    first, last = table[0], table[-1]
+    return {k: float(last[f"sigma_{k}"]) - float(first[f"sigma_{k}"]) for k in ("xx", "yy", "zz", "xy")}, first
+
+
+def strained_minus_rest(changes, name):
+    return {k: changes[name][k] - changes["rest"][k] for k in changes[name]}
+
+
+def voigt(phi, z, radius):
+    scale = phi * z / (math.pi * radius)
+    return scale * MATERIAL["k_n"] / 6, scale * (2 * MATERIAL["k_n"] + 3 * MATERIAL["k_t"]) / 20
+
+
+def measure(build, folder, seed, pressure, spheres, preparation):
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "cell.json").write_text(json.dumps(cell_spec(seed, pressure, spheres, preparation)))
+    changes = {}
+    for name, direction in LOADS.items():
+        (folder / f"{name}.json").write_text(json.dumps(path_spec(direction)))
+        out = folder / f"{name}.csv"
+        done = subprocess.run([str(build / "dem_sampler" / "dem_sampler"), "run", str(folder / "cell.json"),
+                               "--path", str(folder / f"{name}.json"), "--out", str(out)], capture_output=True, text=True)
+        if done.returncode != 0:
+            sys.exit(f"moduli.py: {folder}: dem_sampler run failed: {done.stderr.strip()}")
+        with out.open() as f:
+            changes[name], initial = stress_change(list(csv.DictReader(f)))
+    e = STRAIN
+    c = strained_minus_rest(changes, "compression")
+    pure, simple = strained_minus_rest(changes, "pure_shear"), strained_minus_rest(changes, "simple_shear")
+    lam, g_compression = -c["zz"] / (2 * e), (c["zz"] - c["xx"]) / (2 * e)
+    phi, z = float(initial["phi"]), float(initial["Z"])
+    k_v, g_v = voigt(phi, z, (DIAMETER["min"] + DIAMETER["max"]) / 4)
+    return {"preparation": preparation, "seed": seed, "pressure": pressure, "spheres": spheres, "phi": phi, "Z": z,
+            "K": lam + 2 * g_compression / 3, "G_compression": g_compression,
+            "G_pure_shear": (pure["xx"] - pure["yy"]) / (4 * e), "G_simple_shear": simple["xy"] / (2 * e),
+            "K_voigt": k_v, "G_voigt": g_v, "rest_drift": max(abs(v) for v in changes["rest"].values())}
+
+
+def table(rows):
+    def stat(key, group, scale=1.0):
+        values = [r[key] / scale for r in group]
+        spread = statistics.stdev(values) if len(values) > 1 else 0.0
+        return f"{statistics.mean(values):.3g} ± {spread:.2g}"
+
+    lines = ["| preparation | p0 [Pa] | cells | φ | Z | K [MPa] | K/K_V | G [MPa] (pure shear) | G/G_V | G simple shear / pure shear |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
+    for preparation, pressure in dict.fromkeys((r["preparation"], r["pressure"]) for r in rows):
+        group = [r for r in rows if (r["preparation"], r["pressure"]) == (preparation, pressure)]
+        for r in group:
+            r["K_ratio"], r["G_ratio"] = r["K"] / r["K_voigt"], r["G_pure_shear"] / r["G_voigt"]
+            r["G_isotropy"] = r["G_simple_shear"] / r["G_pure_shear"]
+        lines.append(f"| {preparation} | {pressure:g} | {len(group)} | {stat('phi', group)} | {stat('Z', group)} | {stat('K', group, 1e6)} | "
+                     f"{stat('K_ratio', group)} | {stat('G_pure_shear', group, 1e6)} | {stat('G_ratio', group)} | "
+                     f"{stat('G_isotropy', group)} |")
+    return "\n".join(lines) + "\n"
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("cell_moduli"))
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
+    parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4])
+    parser.add_argument("--pressures", type=float, nargs="+", default=[1000, 10000])
+    parser.add_argument("--preparations", nargs="+", choices=list(PREPARATIONS), default=list(PREPARATIONS))
+    parser.add_argument("--spheres", type=int, default=125)
+    args = parser.parse_args()
+    rows = [measure(args.build.resolve(), args.out / f"{preparation}_p{pressure:g}_seed{seed}", seed, pressure,
+                    args.spheres, preparation)
+            for preparation in args.preparations for pressure in args.pressures for seed in args.seeds]
+    text = table(rows)
+    with (args.out / "moduli.csv").open("w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+    (args.out / "moduli.md").write_text(text)
+    print(text, end="")
+
+
+if __name__ == "__main__":
+    main()
