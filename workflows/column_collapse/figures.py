@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Figures of a column-collapse run, after seed Figs. 4 and 5: figures.py RUN_DIR OUT_DIR [--panels N].
+"""Figures of a column-collapse run, after seed Figs. 4 and 5: figures.py RUN_DIR [RUN_DIR_2 ...] OUT_DIR
+[--panels N]. Several run folders are the segments of a resumed run (run, run_2, …), in order.
 
 Velocity norm, ε̇_q (seed Eq. 5, the solver's strain_rate_q) and damage D at N times, the front and
 height over time, the hit rate (hybrid, cache), the damage of the tracked points and the bond count of
@@ -14,9 +15,9 @@ from plotting import collapse_figures  # noqa: E402  (after the path set-up)
 
 if __name__ == "__main__":
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("run", type=Path)
+    parser.add_argument("runs", type=Path, nargs="+")
     parser.add_argument("out", type=Path)
     parser.add_argument("--panels", type=int, default=6)
     args = parser.parse_args()
-    for name in collapse_figures.all_figures(args.run, args.out, args.panels):
+    for name in collapse_figures.all_figures(args.runs, args.out, args.panels):
         print(args.out / name)

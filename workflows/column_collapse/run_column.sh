@@ -6,6 +6,8 @@
 #   the scene's 2.5 s); PPC = material points per grid cell and direction (default: the scene's 2);
 #   workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS).
 # hybrid and cache first build OUT/lib from paths.json (skipped when already sampled).
+# A run stopped by Ctrl-C or SIGTERM has written its restart: the same command again resumes it into
+# the next segment (OUT/run_2, OUT/run_3, …), and the figures are drawn over every segment.
 # Run time on 2 cores: hours to days (estimate_time.py measures and extrapolates it; do not start a full
 # run by accident).
 set -eu
@@ -24,5 +26,22 @@ fi
 [ -n "${END:-}" ] && set -- "$@" --set "/time/end=$END"
 [ -n "${PPC:-}" ] && set -- "$@" --set "/regions/0/points_per_cell=$PPC"  # the scene has one region
 "$build/mpm_solver/mpm_solver" scene "$here/column.json" "$@" --out "$out/scene.json"
-"$build/mpm_solver/mpm_solver" "$out/scene.json" --out "$out/run" --threads "$threads"
-"$python" "$here/figures.py" "$out/run" "$out/figures"
+segment() { if [ "$1" = 1 ]; then echo "$out/run"; else echo "$out/run_$1"; fi; }
+n=1
+runs=""
+while [ -f "$(segment $n)/summary.json" ]; do
+  runs="$runs $(segment $n)"
+  grep -q '"interrupted": true' "$(segment $n)/summary.json" || break  # it finished
+  n=$((n + 1))
+done
+if [ ! -f "$(segment $n)/summary.json" ]; then
+  set -- "$out/scene.json" --out "$(segment $n)" --threads "$threads"
+  if [ "$n" -gt 1 ]; then
+    echo "resuming from $(segment $((n - 1)))/restart.h5"
+    set -- "$@" --restart "$(segment $((n - 1)))/restart.h5"
+  fi
+  "$build/mpm_solver/mpm_solver" "$@"
+  runs="$runs $(segment $n)"
+fi
+# shellcheck disable=SC2086  # the segments are separate arguments
+"$python" "$here/figures.py" $runs "$out/figures"

@@ -50,17 +50,21 @@ def series_figures(series, out):
     return made
 
 
-def tracked_figures(run_dir, out):
+def tracked_figures(run_dirs, out):
     """Damage of the tracked points over time and the bonds per sphere of their DEM cells (when live; a
     re-tiled cell has more spheres and bonds, not more per sphere)."""
-    file = Path(run_dir) / "tracked_points.csv"
-    if not file.exists():
+    files = [Path(d) / "tracked_points.csv" for d in run_dirs if (Path(d) / "tracked_points.csv").exists()]
+    if not files:
         return []
-    per_point = tables.split_by(tables.read_csv(file), "point")
+    per_point = tables.split_by(joined_tables([tables.read_csv(f) for f in files]), "point")
     curves = [(p["t"], p["damage"], f"point {pid}", None) for pid, p in per_point.items()]
     figures.time_plot(out / "tracked_damage.png", curves, "t [s]", "damage D", title="tracked points")
     made = ["tracked_damage.png"]
-    cells = tracked_cell_counts(run_dir)
+    cells = {}
+    for run_dir in run_dirs:
+        for point, (t, n) in tracked_cell_counts(run_dir).items():
+            before = cells.get(point, (np.array([]), np.array([])))
+            cells[point] = (np.concatenate([before[0], t]), np.concatenate([before[1], n]))
     if cells:
         figures.time_plot(out / "tracked_bonds.png",
                           [(t, n, f"point {pid}", {"marker": "o"}) for pid, (t, n) in cells.items()],
@@ -79,11 +83,20 @@ def tracked_cell_counts(run_dir):
     return counts
 
 
-def all_figures(run_dir, out, panels=5):
-    """Writes every figure of the run in `run_dir` into `out`; returns their file names."""
-    run_dir, out = Path(run_dir), Path(out)
+def joined_tables(parts):
+    """Tables of the segments of a resumed run, one after the other, on the columns they share (an
+    older segment may lack a column a newer build writes)."""
+    shared = [k for k in parts[0] if all(k in p for p in parts)]
+    return {k: np.concatenate([p[k] for p in parts]) for k in shared}
+
+
+def all_figures(run_dirs, out, panels=5):
+    """Writes every figure of a run into `out`; returns their file names. `run_dirs` is one run folder,
+    or the folders of a run and its resumed segments, in order."""
+    run_dirs = [Path(run_dirs)] if isinstance(run_dirs, (str, Path)) else [Path(d) for d in run_dirs]
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    made = snapshot_figures(vtu.read_run(run_dir), out, panels)
-    made += series_figures(tables.read_csv(run_dir / "series.csv"), out)
-    made += tracked_figures(run_dir, out)
+    made = snapshot_figures([s for d in run_dirs for s in vtu.read_run(d)], out, panels)
+    made += series_figures(joined_tables([tables.read_csv(d / "series.csv") for d in run_dirs]), out)
+    made += tracked_figures(run_dirs, out)
     return made
