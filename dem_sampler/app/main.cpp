@@ -5,6 +5,7 @@
 
 #include "dem_sampler/app/benchmark_cell.hpp"
 #include "dem_sampler/app/prepare_command.hpp"
+#include "dem_sampler/app/rheometer_command.hpp"
 #include "dem_sampler/app/run_command.hpp"
 #include "dem_sampler/app/sample_command.hpp"
 #include "database/store/library.hpp"
@@ -54,6 +55,25 @@ int main(int argc, char** argv) {
   sample_cmd->add_option("--commit-every", sample.commit_batch, "records per commit between snapshots")
       ->check(CLI::Range(1L, 1000000L));
 
+  RheometerOptions rheometer;
+  std::string rheometer_out;
+  double rheometer_pressure = 0;
+  CLI::App* rheometer_cmd = app.add_subcommand(
+      "rheometer", "Steady simple shear of the cell of CELL.json at each inertial number under a controlled normal "
+                   "stress; one row per I: I, shear rate, mu = sigma_xy / -sigma_yy (and its standard error), "
+                   "normal stress, phi, Z");
+  rheometer_cmd->add_option("cell", rheometer.cell_file, "CELL.json: material, effects, and preparation or packing file")
+      ->required();
+  rheometer_cmd->add_option("--inertial-numbers", rheometer.inertial_numbers, "inertial numbers I")
+      ->required()->delimiter(',')->check(CLI::PositiveNumber);
+  CLI::Option* rheometer_pressure_opt =
+      rheometer_cmd->add_option("--pressure", rheometer_pressure, "normal stress P [Pa] (default: the preparation pressure)")
+          ->check(CLI::PositiveNumber);
+  rheometer_cmd->add_option("--strain", rheometer.strain, "total shear strain")->check(CLI::PositiveNumber);
+  rheometer_cmd->add_option("--steady-from", rheometer.steady_from, "shear strain after which the flow counts as steady")
+      ->check(CLI::NonNegativeNumber);
+  rheometer_cmd->add_option("--out", rheometer_out, "write the rows as CSV to this file instead of printing them");
+
   BenchmarkOptions bench;
   bool bench_json = false;
   CLI::App* bench_cmd = app.add_subcommand("bench", "Standard benchmark cell (shared/peers/README.md): particle-steps/s of simple shear");
@@ -88,6 +108,11 @@ int main(int argc, char** argv) {
       run_path_command(run);
     }
     if (*prepare_cmd) prepare_command(prepare);
+    if (*rheometer_cmd) {
+      if (rheometer_pressure_opt->count()) rheometer.normal_stress = rheometer_pressure;
+      if (!rheometer_out.empty()) rheometer.out_file = rheometer_out;
+      rheometer_command(rheometer);
+    }
     if (*sample_cmd) return sample_command(sample);
     if (*bench_cmd) {
       const BenchmarkResult r = run_benchmark(bench);

@@ -1,6 +1,7 @@
 """The cell-response validation (workflows/cell_response): a dense frictional cell's relaxed moduli
 lie below the affine (Voigt) ones, which relaxation can only lower, and its shear modulus is the
-same measured in pure and in simple shear (an isotropic packing), within a small cell's anisotropy."""
+same measured in pure and in simple shear (an isotropic packing), within a small cell's anisotropy;
+under a held normal stress its faster shear flow is looser and more frictional."""
 import csv
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
@@ -23,3 +24,15 @@ class CellResponseTest(WorkflowTest):
         self.assertLessEqual(r["G_simple_shear"], 1.1 * r["G_voigt"])
         self.assertAlmostEqual(r["G_simple_shear"] / r["G_pure_shear"], 1, delta=0.35)
         self.assertIn("| dense | 1000 | 1 |", (self.out / "moduli.md").read_text())
+
+    def test_mu_of_i(self):
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out, "--build", BUILD,
+             "--seeds", "1", "--inertial-numbers", "0.01", "0.2", "--spheres", "64", "--strain", "3"])
+        with (self.out / "mu_of_i.csv").open() as f:
+            slow, fast = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+        for r in (slow, fast):
+            self.assertAlmostEqual(r["normal_stress"], 1000, delta=20)  # the servo holds P
+        self.assertGreater(fast["mu"], slow["mu"])
+        self.assertLess(fast["phi"], slow["phi"])
+        self.assertIn("Fit: μ_s =", (self.out / "mu_of_i.md").read_text())
+        self.assert_png(self.out / "mu_of_i.png")
