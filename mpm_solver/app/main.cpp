@@ -101,7 +101,7 @@ int audit_main(int argc, char** argv) {
 int run_main(int argc, char** argv) {
   CLI::App cli("mpm_solver: 2D plane-strain MPM with analytic and live DEM laws\n"
                "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--material JSON] [--set POINTER=JSON]... "
-               "[--out DIR] [--restart FILE] [--threads N] [--json] | mpm_solver scene --help | mpm_solver bench --help "
+               "[--out DIR] [--restart FILE] [--checkpoint-every S] [--threads N] [--json] | mpm_solver scene --help | mpm_solver bench --help "
                "| mpm_solver audit --help");
   RunOptions o;
   int threads = 0;
@@ -110,6 +110,10 @@ int run_main(int argc, char** argv) {
   add_override_options(cli, o.overrides);
   cli.add_option("--out", o.out, "output folder (default mpm_out)");
   cli.add_option("--restart", o.restart, "resume from a restart file written by an earlier run of this scene");
+  cli.add_option("--checkpoint-every", o.checkpoint_every,
+                 "write OUT/restart.h5 at the first output snapshot after every S wall seconds, so that a killed "
+                 "run can resume (default 600; 0: at every snapshot)")
+      ->check(CLI::NonNegativeNumber);
   cli.add_option("--threads", threads, "OpenMP threads (default: all)")->check(CLI::PositiveNumber);
   cli.add_flag("--json", json, "print the run summary as JSON on stdout");
   CLI11_PARSE(cli, argc, argv);

@@ -83,8 +83,10 @@ nlohmann::json run_scene(const RunOptions& options) {
   if (!scene.tracked_points.empty()) tracked.emplace(options.out / "tracked_points.csv", scene.tracked_points);
   io::TrackedCells tracked_cells(options.out / "cells", scene.tracked_points);
 
+  const std::filesystem::path restart = options.out / "restart.h5";
   double output_time = 0;
   long snapshots = 0;
+  Clock::time_point last_checkpoint = Clock::now();
   const auto snapshot = [&] {
     const Clock::time_point t0 = Clock::now();
     char name[64];
@@ -92,6 +94,11 @@ nlohmann::json run_scene(const RunOptions& options) {
     io::write_vtu(options.out / name, solver);
     pvd.add(solver.time(), name);
     tracked_cells.write(solver, snapshots - 1);
+    // At a snapshot, so that a run resumed from the checkpoint starts on its own output schedule.
+    if (seconds_since(last_checkpoint) >= options.checkpoint_every) {
+      io::write_restart(restart, solver);
+      last_checkpoint = Clock::now();
+    }
     output_time += seconds_since(t0);
   };
   const auto record = [&](double dt) {
@@ -130,7 +137,6 @@ nlohmann::json run_scene(const RunOptions& options) {
   const double run_time = seconds_since(loop_start);
   // Checked once: a signal arriving after the loop ended does not make a finished run "interrupted".
   const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12);
-  const std::filesystem::path restart = options.out / "restart.h5";
   io::write_restart(restart, solver);
   if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
 

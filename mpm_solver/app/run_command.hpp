@@ -1,7 +1,9 @@
 // `mpm_solver SCENE.json`: runs a scene to its end time, writing VTU/PVD snapshots, the CSV series,
 // tracked points and their DEM cells, a run summary JSON and a final restart file (restart.h5) into
 // the output folder. A run asked to stop (SIGINT/SIGTERM) stops after its current step and writes the
-// same restart file and summary, so `--restart OUT/restart.h5` continues it exactly.
+// same restart file and summary, so `--restart OUT/restart.h5` continues it exactly. A run that is
+// killed outright (SIGKILL, a machine restart) has its last checkpoint: OUT/restart.h5 is also written,
+// complete or not at all, at the first output snapshot after every `checkpoint_every` wall seconds.
 #pragma once
 #include <atomic>
 #include <filesystem>
@@ -20,6 +22,8 @@ struct RunOptions {
   // name> and run.
   SceneOverrides overrides;
   bool progress = true;  // a progress line with ETA on stderr
+  // Wall seconds between checkpoints, each written at an output snapshot (0: at every snapshot).
+  double checkpoint_every = 600;
   // Polled after every step (the CLI wires SIGINT/SIGTERM to it): once true, the run stops there,
   // writes OUT/restart.h5 and returns a summary with "interrupted": true.
   const std::atomic<bool>* stop = nullptr;

@@ -2,6 +2,7 @@
 // OUT/restart.h5 and summary.json ("interrupted": true), exits with status 1 and says how to resume.
 // Resuming with --restart continues exactly like the uninterrupted run: the final restart files of
 // both hold bitwise-equal points (positions, velocities, F, stresses) at the same time and step.
+// A run killed outright resumes the same way from its last periodic checkpoint.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
@@ -68,53 +69,14 @@ class MpmInterrupt : public ::testing::TestWithParam<int> {
 };
 TempDir* MpmInterrupt::dir_ = nullptr;
 
-TEST_P(MpmInterrupt, WritesARestartThatResumesBitForBit) {
-  const int signal = GetParam();
-  const TempDir here("gb-mpm-interrupt-run");
-  const fs::path scene = here.write("scene.json", kScene), first = here.path() / "first";
-  // The signal reaches the run while it writes its second VTU snapshot (t = 0.1 s of 0.4 s): that file
-  // is a FIFO whose pipe holds less than the snapshot, so the run waits inside the write until the test
-  // has sent the signal and drains it.
-  fs::create_directories(first);
-  const fs::path snapshot = first / "points_000001.vtu";
-  ASSERT_EQ(mkfifo(snapshot.c_str(), 0644), 0);
-  const int fifo = open(snapshot.c_str(), O_RDONLY | O_NONBLOCK);
-  ASSERT_GE(fifo, 0);
-  const int capacity = fcntl(fifo, F_SETPIPE_SZ, 4096);
-  ASSERT_GT(capacity, 0);
-  const pid_t child = sampler::test::spawn(mpm_solver(scene, first), here.path());
-  const int exited = static_cast<int>(syscall(SYS_pidfd_open, child, 0));  // readable once the run ends
-  ASSERT_GE(exited, 0);
-  pollfd events[2] = {{fifo, POLLIN, 0}, {exited, POLLIN, 0}};
-  ASSERT_GT(poll(events, 2, -1), 0);
-  const bool writing = events[0].revents & POLLIN;
-  kill(child, signal);
-  fcntl(fifo, F_SETFL, 0);
-  std::size_t drained = 0;
-  char buffer[1 << 16];
-  for (ssize_t n; writing && (n = read(fifo, buffer, sizeof buffer)) > 0;) drained += static_cast<std::size_t>(n);
-  close(fifo);
-  close(exited);
-  const Outcome stopped = sampler::test::wait_for(child, here.path());
-  ASSERT_TRUE(writing) << "the run ended before its second snapshot: " << stopped.err;
-  ASSERT_GT(drained, static_cast<std::size_t>(capacity)) << "the snapshot fits in the pipe: the run did not wait";
-
-  EXPECT_EQ(stopped.exit_code, 1) << stopped.err;
-  const fs::path restart = first / "restart.h5";
-  EXPECT_NE(stopped.err.find(std::string("interrupted by ") + strsignal(signal)), std::string::npos) << stopped.err;
-  EXPECT_NE(stopped.err.find("--restart " + restart.string()), std::string::npos) << stopped.err;
-  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(first / "summary.json"));
-  EXPECT_TRUE(summary["interrupted"].get<bool>());
-  const RestartContents at_stop = read_restart_file(restart);
-  ASSERT_GT(at_stop.time, 0.0);
-  ASSERT_LT(at_stop.time, 0.4) << "the run ended before the signal: nothing was interrupted";
-  EXPECT_EQ(at_stop.time, summary["final_time"].get<double>());
-
+// Resumes `restart` to the scene's end and expects the final points to equal the uninterrupted run's.
+void expect_resumes_bit_for_bit(const TempDir& here, const fs::path& scene, const fs::path& restart,
+                                const fs::path& reference_dir) {
   const Outcome resumed =
       sampler::test::run(mpm_solver(scene, here.path() / "second", {"--restart", restart.string()}), here.path());
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   const RestartContents end = read_restart_file(here.path() / "second" / "restart.h5");
-  const RestartContents reference = read_restart_file(dir_->path() / "reference" / "restart.h5");
+  const RestartContents reference = read_restart_file(reference_dir / "restart.h5");
   EXPECT_EQ(end.time, reference.time);
   EXPECT_EQ(end.steps, reference.steps);
   ASSERT_EQ(end.points.size(), reference.points.size());
@@ -127,8 +89,92 @@ TEST_P(MpmInterrupt, WritesARestartThatResumesBitForBit) {
   EXPECT_GT(moved, 0u);
 }
 
+// A snapshot file made a FIFO whose pipe holds less than a snapshot: the run that reaches it waits
+// inside the write until the test drains the pipe (or kills the run).
+class BlockingSnapshot {
+ public:
+  explicit BlockingSnapshot(const fs::path& file) {
+    fs::create_directories(file.parent_path());
+    EXPECT_EQ(mkfifo(file.c_str(), 0644), 0);
+    fifo_ = open(file.c_str(), O_RDONLY | O_NONBLOCK);
+    EXPECT_GE(fifo_, 0);
+    capacity_ = fcntl(fifo_, F_SETPIPE_SZ, 4096);
+    EXPECT_GT(capacity_, 0);
+  }
+  ~BlockingSnapshot() { close(fifo_); }
+  // Waits until the child writes into the snapshot (true) or ends first (false).
+  bool wait_until_written(pid_t child) const {
+    const int exited = static_cast<int>(syscall(SYS_pidfd_open, child, 0));  // readable once the run ends
+    EXPECT_GE(exited, 0);
+    pollfd events[2] = {{fifo_, POLLIN, 0}, {exited, POLLIN, 0}};
+    EXPECT_GT(poll(events, 2, -1), 0);
+    close(exited);
+    return events[0].revents & POLLIN;
+  }
+  // Reads the pipe to its end; returns the bytes read.
+  std::size_t drain() const {
+    fcntl(fifo_, F_SETFL, 0);
+    std::size_t drained = 0;
+    char buffer[1 << 16];
+    for (ssize_t n; (n = read(fifo_, buffer, sizeof buffer)) > 0;) drained += static_cast<std::size_t>(n);
+    return drained;
+  }
+  std::size_t capacity() const { return static_cast<std::size_t>(capacity_); }
+
+ private:
+  int fifo_ = -1;
+  int capacity_ = 0;
+};
+
+TEST_P(MpmInterrupt, WritesARestartThatResumesBitForBit) {
+  const int signal = GetParam();
+  const TempDir here("gb-mpm-interrupt-run");
+  const fs::path scene = here.write("scene.json", kScene), first = here.path() / "first";
+  // The signal reaches the run while it writes its second VTU snapshot (t = 0.1 s of 0.4 s).
+  const BlockingSnapshot snapshot(first / "points_000001.vtu");
+  const pid_t child = sampler::test::spawn(mpm_solver(scene, first), here.path());
+  const bool writing = snapshot.wait_until_written(child);
+  kill(child, signal);
+  const std::size_t drained = writing ? snapshot.drain() : 0;
+  const Outcome stopped = sampler::test::wait_for(child, here.path());
+  ASSERT_TRUE(writing) << "the run ended before its second snapshot: " << stopped.err;
+  ASSERT_GT(drained, snapshot.capacity()) << "the snapshot fits in the pipe: the run did not wait";
+
+  EXPECT_EQ(stopped.exit_code, 1) << stopped.err;
+  const fs::path restart = first / "restart.h5";
+  EXPECT_NE(stopped.err.find(std::string("interrupted by ") + strsignal(signal)), std::string::npos) << stopped.err;
+  EXPECT_NE(stopped.err.find("--restart " + restart.string()), std::string::npos) << stopped.err;
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(first / "summary.json"));
+  EXPECT_TRUE(summary["interrupted"].get<bool>());
+  const RestartContents at_stop = read_restart_file(restart);
+  ASSERT_GT(at_stop.time, 0.0);
+  ASSERT_LT(at_stop.time, 0.4) << "the run ended before the signal: nothing was interrupted";
+  EXPECT_EQ(at_stop.time, summary["final_time"].get<double>());
+  expect_resumes_bit_for_bit(here, scene, restart, dir_->path() / "reference");
+}
+
 INSTANTIATE_TEST_SUITE_P(Signals, MpmInterrupt, ::testing::Values(SIGINT, SIGTERM),
                          [](const auto& info) { return info.param == SIGINT ? "Sigint" : "Sigterm"; });
+
+// A run killed outright writes nothing on its way out; with --checkpoint-every 0 it has left the
+// restart of its last snapshot, from which it resumes exactly like the uninterrupted run.
+TEST_F(MpmInterrupt, AKilledRunResumesFromItsLastCheckpointBitForBit) {
+  const TempDir here("gb-mpm-killed-run");
+  const fs::path scene = here.write("scene.json", kScene), first = here.path() / "first";
+  // Killed while it writes its third snapshot (t = 0.2 s): the checkpoint of the second (0.1 s) is
+  // complete, that of the third not begun.
+  const BlockingSnapshot snapshot(first / "points_000002.vtu");
+  const pid_t child = sampler::test::spawn(mpm_solver(scene, first, {"--checkpoint-every", "0"}), here.path());
+  const bool writing = snapshot.wait_until_written(child);
+  kill(child, SIGKILL);
+  const Outcome killed = sampler::test::wait_for(child, here.path());
+  ASSERT_TRUE(writing) << "the run ended before its third snapshot: " << killed.err;
+  EXPECT_FALSE(fs::exists(first / "summary.json"));
+  EXPECT_FALSE(fs::exists(first / "restart.h5.partial"));
+  const RestartContents checkpoint = read_restart_file(first / "restart.h5");
+  EXPECT_NEAR(checkpoint.time, 0.1, 1e-12);
+  expect_resumes_bit_for_bit(here, scene, first / "restart.h5", dir_->path() / "reference");
+}
 
 }  // namespace
 }  // namespace grainbank::faults

@@ -6,8 +6,9 @@
 #   the scene's 2.5 s); PPC = material points per grid cell and direction (default: the scene's 2);
 #   workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS).
 # hybrid and cache first build OUT/lib from paths.json (skipped when already sampled).
-# A run stopped by Ctrl-C or SIGTERM has written its restart: the same command again resumes it into
-# the next segment (OUT/run_2, OUT/run_3, …), and the figures are drawn over every segment.
+# A run stopped by Ctrl-C or SIGTERM has written its restart, and a killed one its last checkpoint (every
+# 10 min): the same command again resumes it into the next segment (OUT/run_2, OUT/run_3, …), and the
+# figures are drawn over every segment.
 # Run time on 2 cores: hours to days (estimate_time.py measures and extrapolates it; do not start a full
 # run by accident).
 set -eu
@@ -27,14 +28,18 @@ fi
 [ -n "${PPC:-}" ] && set -- "$@" --set "/regions/0/points_per_cell=$PPC"  # the scene has one region
 "$build/mpm_solver/mpm_solver" scene "$here/column.json" "$@" --out "$out/scene.json"
 segment() { if [ "$1" = 1 ]; then echo "$out/run"; else echo "$out/run_$1"; fi; }
+# A segment with a restart was interrupted (summary says so) or killed (no summary; its restart is the
+# last checkpoint): the next segment resumes from it. One without a restart never reached a checkpoint
+# and is run again.
 n=1
 runs=""
-while [ -f "$(segment $n)/summary.json" ]; do
+while [ -f "$(segment $n)/restart.h5" ]; do
   runs="$runs $(segment $n)"
-  grep -q '"interrupted": true' "$(segment $n)/summary.json" || break  # it finished
+  [ -f "$(segment $n)/summary.json" ] && ! grep -q '"interrupted": true' "$(segment $n)/summary.json" && break
   n=$((n + 1))
 done
-if [ ! -f "$(segment $n)/summary.json" ]; then
+if [ ! -f "$(segment $n)/summary.json" ] || grep -q '"interrupted": true' "$(segment $n)/summary.json"; then
+  rm -rf "$(segment $n)"
   set -- "$out/scene.json" --out "$(segment $n)" --threads "$threads"
   if [ "$n" -gt 1 ]; then
     echo "resuming from $(segment $((n - 1)))/restart.h5"

@@ -53,18 +53,19 @@ def series_figures(series, out):
 def tracked_figures(run_dirs, out):
     """Damage of the tracked points over time and the bonds per sphere of their DEM cells (when live; a
     re-tiled cell has more spheres and bonds, not more per sphere)."""
-    files = [Path(d) / "tracked_points.csv" for d in run_dirs if (Path(d) / "tracked_points.csv").exists()]
-    if not files:
+    if not all((Path(d) / "tracked_points.csv").exists() for d in run_dirs):
         return []
-    per_point = tables.split_by(joined_tables([tables.read_csv(f) for f in files]), "point")
+    ends = segment_ends(run_dirs)
+    per_point = tables.split_by(joined_tables([tables.read_csv(Path(d) / "tracked_points.csv") for d in run_dirs], ends),
+                                "point")
     curves = [(p["t"], p["damage"], f"point {pid}", None) for pid, p in per_point.items()]
     figures.time_plot(out / "tracked_damage.png", curves, "t [s]", "damage D", title="tracked points")
     made = ["tracked_damage.png"]
     cells = {}
-    for run_dir in run_dirs:
+    for run_dir, end in zip(run_dirs, ends):
         for point, (t, n) in tracked_cell_counts(run_dir).items():
             before = cells.get(point, (np.array([]), np.array([])))
-            cells[point] = (np.concatenate([before[0], t]), np.concatenate([before[1], n]))
+            cells[point] = (np.concatenate([before[0], t[t < end]]), np.concatenate([before[1], n[t < end]]))
     if cells:
         figures.time_plot(out / "tracked_bonds.png",
                           [(t, n, f"point {pid}", {"marker": "o"}) for pid, (t, n) in cells.items()],
@@ -83,11 +84,18 @@ def tracked_cell_counts(run_dir):
     return counts
 
 
-def joined_tables(parts):
-    """Tables of the segments of a resumed run, one after the other, on the columns they share (an
-    older segment may lack a column a newer build writes)."""
+def segment_ends(run_dirs):
+    """For each segment of a resumed run, the time from which the next segment takes over: the next one's
+    start (a killed segment ran on past the checkpoint it was resumed from); infinity for the last."""
+    starts = [vtu.read_pvd(Path(d) / "points.pvd")[0][0] for d in run_dirs]
+    return [start * (1 - 1e-12) for start in starts[1:]] + [np.inf]
+
+
+def joined_tables(parts, ends):
+    """Tables of the segments of a resumed run, one after the other, each up to its end (segment_ends), on
+    the columns they share (an older segment may lack a column a newer build writes)."""
     shared = [k for k in parts[0] if all(k in p for p in parts)]
-    return {k: np.concatenate([p[k] for p in parts]) for k in shared}
+    return {k: np.concatenate([p[k][p["t"] < end] for p, end in zip(parts, ends)]) for k in shared}
 
 
 def all_figures(run_dirs, out, panels=5):
@@ -96,7 +104,8 @@ def all_figures(run_dirs, out, panels=5):
     run_dirs = [Path(run_dirs)] if isinstance(run_dirs, (str, Path)) else [Path(d) for d in run_dirs]
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    made = snapshot_figures([s for d in run_dirs for s in vtu.read_run(d)], out, panels)
-    made += series_figures(joined_tables([tables.read_csv(d / "series.csv") for d in run_dirs]), out)
+    ends = segment_ends(run_dirs)
+    made = snapshot_figures([s for d, end in zip(run_dirs, ends) for s in vtu.read_run(d) if s.time < end], out, panels)
+    made += series_figures(joined_tables([tables.read_csv(d / "series.csv") for d in run_dirs], ends), out)
     made += tracked_figures(run_dirs, out)
     return made

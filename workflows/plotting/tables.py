@@ -7,10 +7,13 @@ import numpy as np
 
 def read_csv(file):
     """Column name → float array of a numeric CSV with a header line; ValueError naming the file when
-    the header is missing or a row has the wrong number of fields."""
+    the header is missing or a row has the wrong number of fields. A last row without its line end is
+    dropped: it is the row a killed run was writing."""
     file = Path(file)
-    with file.open(newline="") as f:
-        rows = list(csv.reader(f))
+    text = file.read_text()
+    rows = list(csv.reader(text.splitlines()))
+    if len(rows) > 1 and not text.endswith("\n"):
+        rows.pop()
     if not rows:
         raise ValueError(f"{file}: empty, expected a header line")
     header = rows[0]
