@@ -59,9 +59,10 @@ int main(int argc, char** argv) {
   std::string rheometer_out;
   double rheometer_pressure = 0;
   CLI::App* rheometer_cmd = app.add_subcommand(
-      "rheometer", "Steady simple shear of the cell of CELL.json at each inertial number under a controlled normal "
-                   "stress; one row per I: I, shear rate, mu = sigma_xy / -sigma_yy (and its standard error), "
-                   "normal stress, phi, Z");
+      "rheometer", "Steady simple shear of the cell of CELL.json, consolidated to -P, at each inertial number under a "
+                   "controlled normal stress P; one row per I: I, shear rate, mu = sigma_xy / -sigma_yy (and its "
+                   "standard error), normal stress, phi, Z, steps, the peak shear stress and its strain, and phi "
+                   "after the consolidation");
   rheometer_cmd->add_option("cell", rheometer.cell_file, "CELL.json: material, effects, and preparation or packing file")
       ->required();
   rheometer_cmd->add_option("--inertial-numbers", rheometer.inertial_numbers, "inertial numbers I")

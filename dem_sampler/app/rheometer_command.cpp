@@ -26,7 +26,7 @@ void rheometer_command(const RheometerOptions& options) {
   }
   std::ostream& out = options.out_file ? static_cast<std::ostream&>(file) : std::cout;
   out.precision(10);
-  out << "I,shear_rate,mu,mu_error,normal_stress,phi,Z,steps\n";
+  out << "I,shear_rate,mu,mu_error,normal_stress,phi,Z,steps,peak_shear,peak_strain,phi_consolidated\n";
 
   dem::DemCell prepared = [&] {
     try {
@@ -43,7 +43,8 @@ void rheometer_command(const RheometerOptions& options) {
     const auto start = std::chrono::steady_clock::now();
     const dem::RheometerResult r = dem::shear_at_inertial_number(cell, settings);
     out << r.inertial_number << ',' << r.shear_rate << ',' << r.friction << ',' << r.friction_error << ','
-        << r.normal_stress << ',' << r.solid_fraction << ',' << r.coordination << ',' << r.steps << '\n'
+        << r.normal_stress << ',' << r.solid_fraction << ',' << r.coordination << ',' << r.steps << ',' << r.peak_shear << ','
+        << r.peak_strain << ',' << r.consolidated_solid_fraction << '\n'
         << std::flush;
     std::cerr << "I = " << inertial_number << ": mu = " << r.friction << " ± " << r.friction_error << ", phi = "
               << r.solid_fraction << " (" << r.steps << " steps, "

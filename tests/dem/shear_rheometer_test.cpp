@@ -1,6 +1,8 @@
 // The plane-shear rheometer: it holds the normal stress it is given, the packing dilates and its
 // friction rises as the flow gets faster (the μ(I) and φ(I) of dense granular flows, GDR MiDi 2004),
 // and slow flow of spheres with μ_p = 0.5 has the published quasi-static friction μ_s ≈ 0.35–0.40.
+// A bonded cell is consolidated to P before it is sheared, and carries a peak shear stress, reached
+// at a small strain, above what it carries once its bonds near the shear have broken.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -46,6 +48,24 @@ TEST(ShearRheometer, FasterFlowIsLooserAndMoreFrictionalUnderTheSameNormalStress
   // of about 0.01 at I = 0.01 and three standard errors.
   EXPECT_GT(slow.friction, 0.35 - 3 * slow.friction_error);
   EXPECT_LT(slow.friction, 0.41 + 3 * slow.friction_error);
+}
+
+TEST(ShearRheometer, ABondedCellIsConsolidatedThenPeaksBeforeItsBondsBreak) {
+  DemCell cell = prepare_cell(snow_material(), snow_preparation(64, 7));
+  const double prepared_pressure = -cell.stress().trace() / 3;
+  RheometerSettings s;
+  s.inertial_number = 1e-3;
+  s.normal_stress = 3 * prepared_pressure;
+  s.strain = 0.15;
+  s.steady_from = 0.1;
+  const RheometerResult r = shear_at_inertial_number(cell, s);
+  std::printf("P = %.0f Pa: consolidated in %ld steps to phi = %.3f; peak %.0f Pa at strain %.3f; residual %.0f Pa\n",
+              s.normal_stress, r.consolidation_steps, r.consolidated_solid_fraction, r.peak_shear, r.peak_strain,
+              r.friction * r.normal_stress);
+  EXPECT_GT(r.consolidation_steps, 0);  // three times the preparation pressure: compressed first
+  EXPECT_NEAR(r.normal_stress, s.normal_stress, 0.1 * s.normal_stress);
+  EXPECT_GT(r.peak_shear, r.friction * r.normal_stress);
+  EXPECT_LT(r.peak_strain, 0.05);  // brittle bonds: the peak comes within a few percent of strain
 }
 
 TEST(ShearRheometer, BadSettingsAreRefused) {

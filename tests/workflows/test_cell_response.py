@@ -1,8 +1,11 @@
 """The cell-response validation (workflows/cell_response): a dense frictional cell's relaxed moduli
 lie below the affine (Voigt) ones, which relaxation can only lower, and its shear modulus is the
 same measured in pure and in simple shear (an isotropic packing), within a small cell's anisotropy;
-under a held normal stress its faster shear flow is looser and more frictional."""
+under a held normal stress its faster shear flow is looser and more frictional. A bonded cell is
+stronger at its peak than once its bonds near the shear have broken, and its peak envelope has a
+cohesion."""
 import csv
+import json
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -36,3 +39,18 @@ class CellResponseTest(WorkflowTest):
         self.assertLess(fast["phi"], slow["phi"])
         self.assertIn("Fit: μ_s =", (self.out / "mu_of_i.md").read_text())
         self.assert_png(self.out / "mu_of_i.png")
+
+    def test_strength_of_the_bonded_snow_cell(self):
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "strength.py", self.out, "--build", BUILD,
+             "--seeds", "1", "--pressures", "500", "2000"])
+        result = json.loads((self.out / "strength.json").read_text())
+        for r in result["rows"]:
+            # The servo holds P; within 10 % here, as the window (γ = 0.1–0.15) closely follows the bonds'
+            # failure, a jump the servo's filter (over γ = 0.02) takes a while to follow.
+            self.assertAlmostEqual(r["normal_stress"], r["P"], delta=0.1 * r["P"])
+            self.assertGreater(r["peak_shear"], r["mu"] * r["normal_stress"], "bonds add strength before they break")
+        cohesion, friction_angle = result["tan"]["cohesion"], result["tan"]["friction_angle"]
+        self.assertGreater(cohesion, 0)
+        self.assertTrue(10 < friction_angle < 45, friction_angle)
+        self.assertGreater(result["sin"]["friction_angle"], friction_angle)  # asin μ > atan μ
+        self.assert_png(self.out / "strength.png")

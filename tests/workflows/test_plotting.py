@@ -7,6 +7,7 @@ import numpy as np
 
 from workflow_test_util import BUILD, WorkflowTest, run
 from plotting import flow, png, tables, vtu
+from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
 
 
@@ -81,8 +82,18 @@ class TablesTest(WorkflowTest):
         (self.out / "bad.csv").write_text("t,x\n0,1\n1\n")
         with self.assertRaisesRegex(ValueError, r"bad.csv:3: expected 2 fields, got 1"):
             tables.read_csv(self.out / "bad.csv")
+        # The row a killed run was writing (no line end) is dropped; a complete short row is an error.
+        (self.out / "cut.csv").write_text("t,x\n0,1\n1,2\n2")
+        np.testing.assert_array_equal(tables.read_csv(self.out / "cut.csv")["t"], [0, 1])
         tables.write_markdown(self.out / "a.md", rows)
         self.assertEqual((self.out / "a.md").read_text().splitlines()[2], "| 0 | 1 | 0.5 |")
+
+    def test_segments_of_a_resumed_run_join_where_the_next_takes_over(self):
+        killed = {"t": np.array([0.0, 0.1, 0.2, 0.3]), "x": np.array([0.0, 1.0, 2.0, 3.0])}
+        resumed = {"t": np.array([0.2, 0.3, 0.4]), "x": np.array([2.0, 3.0, 4.0]), "new": np.zeros(3)}
+        joined = joined_tables([killed, resumed], [0.2 * (1 - 1e-12), np.inf])
+        self.assertEqual(sorted(joined), ["t", "x"])  # the columns both segments have
+        np.testing.assert_array_equal(joined["t"], [0.0, 0.1, 0.2, 0.3, 0.4])
 
     def test_png_size_from_ihdr(self):
         fig = plt.figure(figsize=(2, 1))

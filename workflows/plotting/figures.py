@@ -59,6 +59,18 @@ def log_norm(snapshots, values, floor_fraction=1e-3):
     return colors.LogNorm(top * floor_fraction, top, clip=True)
 
 
+def finish_and_save(fig, axes, out, xlabel, ylabel):
+    """The finish of a study's one-panel plot: axis labels, a small legend and a light grid on `axes`,
+    then `fig` written to `out` and closed."""
+    axes.set_xlabel(xlabel)
+    axes.set_ylabel(ylabel)
+    axes.legend(fontsize=7)
+    axes.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
 def time_plot(out, curves, xlabel, ylabel, title=None, log_y=False):
     """curves: list of (x array, y array, label, style dict or None)."""
     fig, ax = plt.subplots(figsize=(6, 3.8))
