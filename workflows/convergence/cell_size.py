@@ -2,7 +2,7 @@
 packing seed"): the demo column run live with DEM cells of N spheres, for each N with several packing
 seeds. The runout of a run is its front's advance; at each N the seed spread is
 (max − min) / mean of the runouts of the seeds. The representative cell is the smallest N whose seed
-spread is below --target (5 %), and whose mean runout stays within the spread of the next larger N.
+spread at the last time is below --target (5 %).
 
   /usr/bin/python3 cell_size.py [OUT] [--build BUILD] [--spheres 64 125 250] [--seeds 1 2]
                                 [--times 0.1 0.2 0.3] [--end 0.3] [--threads N] [--target 0.05]
@@ -16,45 +16,17 @@ import statistics
 import sys
 from pathlib import Path
 
-import numpy as np
-
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, flow, run_compare, scenes, tables  # noqa: E402
+from plotting import environment, tables  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
-
-SCENE = HERE.parent / "demo" / "column.json"
-CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
+from live_demo import MIN_RUNOUT, run, runout_at  # noqa: E402
 
 
-def run(build, out, spheres, seed, end, threads):
-    """Runs the live column with a cell of `spheres` spheres and packing seed `seed`; returns its series
-    (None when it failed before writing one) and cost."""
-    name = f"n{spheres}_seed{seed}"
-    cell = json.loads(CELL.read_text())
-    cell["preparation"]["spheres"], cell["preparation"]["seed"] = spheres, seed
-    cell_file = out / "cells" / f"{name}.json"
-    cell_file.parent.mkdir(parents=True, exist_ok=True)
-    cell_file.write_text(json.dumps(cell, indent=2) + "\n")
-    scene_file = out / "scenes" / f"{name}.json"
-    scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(cell_file.resolve())}, {"/time/end": end})
-    cost = run_compare.timed_scene_run(build, scene_file, out / "runs" / name, threads)
-    series = out / "runs" / name / "series.csv"
-    return (tables.read_csv(series) if series.exists() else None), cost
-
-
-def runout_at(series, t):
-    """Runout [m] at the series row nearest t; None when the run stopped before t."""
-    if series is None or series["t"][-1] < t - 1e-9:
-        return None
-    return float(flow.runout(series)[int(np.argmin(np.abs(series["t"] - t)))])
-
-
-def spread(values, min_runout=0.01):
-    """(max − min) / mean of the seeds' runouts; None below two runs or a mean runout of `min_runout` [m]
-    (a ratio of noise over a tiny number)."""
+def spread(values):
+    """(max − min) / mean of the seeds' runouts; None below two runs or a mean runout of MIN_RUNOUT."""
     values = [v for v in values if v is not None]
-    if len(values) < 2 or statistics.mean(values) < min_runout:
+    if len(values) < 2 or statistics.mean(values) < MIN_RUNOUT:
         return None
     return (max(values) - min(values)) / statistics.mean(values)
 
@@ -76,7 +48,7 @@ def main():
     rows = []
     for spheres in args.spheres:
         for seed in args.seeds:
-            series, cost = run(build, args.out, spheres, seed, args.end, args.threads)
+            series, cost = run(build, args.out, args.end, args.threads, spheres, seed)
             for t in args.times:
                 rows.append({"spheres": spheres, "seed": seed, "t": t, "runout_m": runout_at(series, t),
                              "cpu_s": cost["cpu_s"], "failed": cost["failed"]})
@@ -112,9 +84,10 @@ def main():
     fig, ax = plt.subplots(figsize=(6, 4))
     for t, colour in zip(args.times, ("tab:blue", "tab:orange", "tab:green", "tab:red", "tab:purple")):
         points = [(r["spheres"], 100 * r["runout_m"]) for r in rows if r["t"] == t and r["runout_m"] is not None]
-        ax.plot(*zip(*points), "o", color=colour, alpha=0.6, label=f"t = {t:g} s, one seed")
         means = [(n, 100 * summary[(n, t)]["mean"]) for n in args.spheres if summary[(n, t)]["mean"] is not None]
-        ax.plot(*zip(*means), "-", color=colour)
+        if points:
+            ax.plot(*zip(*points), "o", color=colour, alpha=0.6, label=f"t = {t:g} s, one seed")
+            ax.plot(*zip(*means), "-", color=colour)
     ax.set_xscale("log")
     finish_and_save(fig, ax, args.out / "cell_size.png", "spheres per DEM cell N", "runout [cm]")
     print(text, end="")
