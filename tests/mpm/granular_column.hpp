@@ -42,7 +42,7 @@ inline ColumnResult collapse(const ColumnSetup& c) {
   settings.time_step = {c.step_factor, c.step_factor};
   Solver solver(Grid(Vec2(0, 0), h, cells_x, cells_y), settings);
   const Elasticity elasticity{5e6, 0.3};
-  solver.add_law(std::make_unique<DruckerPragerLaw>(1500, DruckerPragerParameters{elasticity, friction_angle, 0, 0}));
+  solver.add_law(std::make_unique<DruckerPragerLaw>(1500, DruckerPragerParameters{elasticity, friction_angle, 0, 0, std::nullopt}));
   seed_region(solver, 0, rectangle(Vec2(wall, base), Vec2(wall + L0, base + H0)), c.points_per_cell);
   // Base and walls as stiff as the material over one cell (k_n = M / n², so that sqrt(k_n / m_p) = c_p / h);
   // base friction 0.5 and wall friction 0.3 as the example scenes.

@@ -47,7 +47,7 @@ TEST(ElasticLaw, ARigidRotationTurnsTheStressByItsAngle) {
 
 TEST(DruckerPrager, ReturnMappingLandsOnTheConeAtConstantPressure) {
   const double phi = 30 * std::numbers::pi / 180, c = 1000;
-  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, phi, c, 500});
+  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, phi, c, 500, std::nullopt});
   const double eta = std::sin(phi), xi = std::cos(phi);
   PointStress trial;
   trial.in_plane << -5000, 8000, 8000, -3000;
@@ -74,7 +74,7 @@ TEST(DruckerPrager, SteadyPlaneStrainFlowIsMohrCoulomb) {
   for (double degrees : {20.0, 30.0, 40.0}) {
     SCOPED_TRACE(degrees);
     const double phi = degrees * std::numbers::pi / 180;
-    const DruckerPragerParameters parameters{{5e6, 0.3}, phi, 0, 0};
+    const DruckerPragerParameters parameters{{5e6, 0.3}, phi, 0, 0, std::nullopt};
     const DruckerPragerLaw law(1500, parameters);
     PointStress s;
     s.in_plane = -1e4 * Mat2::Identity();
@@ -133,13 +133,13 @@ TEST(DruckerPrager, InertialRheologyParametersAreChecked) {
 }
 
 TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {
-  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 300});
+  DruckerPragerLaw law(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 300, std::nullopt});
   PointStress trial;
   trial.in_plane << 2000, 0, 0, 1000;
   trial.zz = 900;
   const PointStress out = law.return_map(trial, 1e-3);
   EXPECT_NEAR(pressure_of(out), -300, 1e-9);
-  EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6}), std::invalid_argument);
+  EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6, std::nullopt}), std::invalid_argument);
 }
 
 TEST(Gravity, RampStartsFromItsInitialValue) {

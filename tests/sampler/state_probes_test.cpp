@@ -69,7 +69,9 @@ TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections
         EXPECT_NEAR(base_D.norm() * segments[0].duration, depth, 1e-12);
         EXPECT_NEAR(base_D.trace(), shear ? 0.0 : (base == ProbeBase::compression ? -1 : 1) * std::sqrt(2.0) * s.base_rate,
                     1e-12);
-        if (shear) EXPECT_EQ(segments[0].L(1, 0), 0) << "simple shear, with its spin";
+        if (shear) {
+          EXPECT_EQ(segments[0].L(1, 0), 0) << "simple shear, with its spin";
+        }
         std::size_t d = 0;
         for (double psi : s.psi) {
           for (std::size_t b = 0; b < (shear ? s.beta.size() : 1); ++b, ++d) {
