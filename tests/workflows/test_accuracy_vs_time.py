@@ -14,8 +14,10 @@ from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, Workflo
 from plotting import flow, run_compare, tables, vtu
 
 
-COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", "front_rel_err", "runout_rel_err",
-           "stress_rel_l2", "deposit_rms_m", "failed"]
+ERRORS = ["front_rel_err", "runout_rel_err", "stress_rel_l2", "deposit_rms_m"]
+AGAINST_NOISE = ["front_rel_err", "stress_rel_l2", "deposit_rms_m"]
+COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", *ERRORS,
+           *(f"{key}_over_noise" for key in AGAINST_NOISE), "failed"]
 
 
 class AccuracyVsTimeTest(WorkflowTest):
@@ -24,7 +26,7 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
-        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "q_sigma_0.5"])
+        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "q_sigma_0.5"])
         self.assertEqual(list(rows["live"]), COLUMNS)
         # The reference against itself has no error; the variants are different runs of the same scene.
         self.assertIn(rows["live"]["runout_rel_err"], ("", "0.0"))  # empty: the tiny column ran out < 1 cm
@@ -32,6 +34,22 @@ class AccuracyVsTimeTest(WorkflowTest):
             self.assertEqual(float(rows["live"][key]), 0.0)
         self.assertGreater(float(rows["q_sigma_0.5"]["stress_rel_l2"]), 0.0)
         self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
+        # The noise floor: the live law on a cell packed with another seed is another run, not a copy.
+        demo_cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_125.json").read_text())
+        other_cell = json.loads((self.out / "cells" / "other_seed.json").read_text())
+        self.assertNotEqual(other_cell["preparation"].pop("seed"), demo_cell["preparation"].pop("seed"))
+        self.assertEqual(other_cell, demo_cell)
+        noise = rows["other_seed"]
+        self.assertGreater(float(noise["stress_rel_l2"]), 0.0)
+        # Every error is stated over the noise floor's: the noise floor is 1 against itself, live 0.
+        for key in AGAINST_NOISE:
+            if float(noise[key]) > 0:
+                self.assertAlmostEqual(float(noise[f"{key}_over_noise"]), 1.0)
+                self.assertEqual(float(rows["live"][f"{key}_over_noise"]), 0.0)
+                for r in rows.values():
+                    self.assertAlmostEqual(float(r[f"{key}_over_noise"]) * float(noise[key]), float(r[key]))
+            else:
+                self.assertTrue(all(r[f"{key}_over_noise"] == "" for r in rows.values()))
         # Hybrid on the bare template turns every point live at its first step: the live law to round-off.
         self.assertLess(float(rows["enriching"]["stress_rel_l2"]), 1e-9)
         # The run after it finds the states it stored.
@@ -46,7 +64,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertTrue(markdown[0].startswith("| run | knob |"))
         self.assert_png(self.out / "pareto.png")
         study = self.assert_json_fields(self.out / "study.json", ["variants", "library_cost", "runs"])
-        self.assertEqual(len(study["runs"]), 5)
+        self.assertEqual(len(study["runs"]), 6)
         for run_name in rows:
             self.assert_run(self.out / "runs" / run_name, end_time=0.003, points=4)
 
@@ -55,13 +73,14 @@ class AccuracyVsTimeTest(WorkflowTest):
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1", "--skip", "q_sigma_0.5"])
         with (self.out / "results.csv").open() as f:
-            self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)), ["enriching", "hybrid", "hybrid_enriched", "live"])
+            self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)),
+                             ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)
 
     def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--variants", "creeping", "--threads", "1", "--skip",
-             "hybrid_enriched_coarse,cache_enriched_coarse,hybrid_enriched_tol_1,hybrid_enriched,cache_enriched"])
+             "other_seed,hybrid_enriched_coarse,cache_enriched_coarse,hybrid_enriched_tol_1,hybrid_enriched,cache_enriched"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
         self.assertEqual(sorted(rows), ["enriching", "hybrid_enriched_skip", "live"])
@@ -89,7 +108,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         # leaves): compared at the times both reached, it has no error at all.
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1",
-             "--skip", "q_sigma_0.5,hybrid,enriching,hybrid_enriched"])
+             "--skip", "other_seed,q_sigma_0.5,hybrid,enriching,hybrid_enriched"])
         reference, stopped = self.out / "runs" / "live", self.out / "stopped"
         shutil.copytree(reference, stopped)
         stop = 0.0015

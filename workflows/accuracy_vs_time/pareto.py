@@ -1,11 +1,12 @@
 """The Pareto plot of the study: each error measure against CPU time, one panel per measure, the
-reference marked, the non-dominated runs joined."""
+reference and the noise floor marked, the non-dominated runs joined."""
 import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from plotting.figures import plt, DPI  # noqa: E402  (after the path set-up; Agg backend chosen there)
 from matplotlib.ticker import NullFormatter  # noqa: E402
+from variants import NOISE_FLOOR  # noqa: E402
 
 MEASURES = [("front_rel_err", "front: worst relative runout error"), ("stress_rel_l2", "stress field: mean rel. L2"),
             ("deposit_rms_m", "deposit profile: RMS height error [m]")]
@@ -38,6 +39,9 @@ def plot(rows, out):
         ax.plot([others[i]["cpu_s"] for i in front], [others[i][key] for i in front], "k--", lw=0.8, label="Pareto front")
         reference = next(r for r in rows if r["run"] == "live")
         ax.axvline(reference["cpu_s"], color="tab:red", lw=1, label="live reference (error 0)")
+        noise = next((r for r in rows if r["run"] == NOISE_FLOOR), None)
+        if noise:
+            ax.axhline(noise[key], color="tab:gray", lw=1, ls=":", label="noise floor (other packing seed)")
         ax.set_xscale("log")
         ax.xaxis.set_minor_formatter(NullFormatter())  # labelled minor ticks overlap on a short range
         ax.set_xlabel("CPU time [s]")

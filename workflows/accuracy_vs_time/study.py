@@ -14,7 +14,8 @@ by every library run. Runs on the scene's own library (variants.py, "enriched") 
 the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
 Runs already finished in OUT/runs/ are kept (delete them to rerun).
 Errors against the reference, at their common output times (plotting/run_compare.py): front, final
-runout, stress field and deposit profile.
+runout, stress field and deposit profile; the front, stress and deposit errors also over those of the
+noise-floor run (variants.NOISE_FLOOR: live on a cell packed with another seed), when the set has it.
 A run that stops before the end (its error in the column `failed`) is compared up to where it stopped.
 Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
 """
@@ -57,9 +58,9 @@ def prepare_enriched_library(args, build):
 
 def write_scene(name, spec, library, build, args):
     material = dict(spec.get("material", {}))
-    if "cell_spheres" in spec:
+    if "preparation" in spec:
         cell = json.loads(args.cell.read_text())
-        cell["preparation"]["spheres"] = spec["cell_spheres"]
+        cell["preparation"].update(spec["preparation"])
         cell_file = args.out / "cells" / f"{name}.json"
         cell_file.parent.mkdir(parents=True, exist_ok=True)
         cell_file.write_text(json.dumps(cell, indent=2) + "\n")
@@ -74,6 +75,19 @@ def write_scene(name, spec, library, build, args):
     scene_file = args.out / "scenes" / f"{name}.json"
     scenes.variant(build, args.scene, scene_file, spec["law"], library, material, settings)
     return scene_file
+
+
+# The errors stated against the noise floor: each divided by the same error of the live run on a cell
+# packed with another seed, so that 1 means "as far from live as another equally good live run".
+ERRORS_AGAINST_NOISE = ("front_rel_err", "stress_rel_l2", "deposit_rms_m")
+
+
+def over_noise_floor(row, noise_row):
+    """{error}_over_noise for each of ERRORS_AGAINST_NOISE; None without the noise-floor run, or where it
+    has no such error (a front that moved by nothing)."""
+    def ratio(key):
+        return row[key] / noise_row[key] if noise_row and noise_row[key] else None
+    return {f"{key}_over_noise": ratio(key) for key in ERRORS_AGAINST_NOISE}
 
 
 def run(name, spec, library, build, args):
@@ -127,6 +141,10 @@ def main():
                      "steps": int(series["step"][-1]),
                      "wall_s": costs[name]["wall_s"], "cpu_s": costs[name]["cpu_s"],
                      **run_compare.errors(folder, reference), "failed": costs[name].get("failed", "")})
+    noise_row = next((row for row in rows if row["run"] == variants.NOISE_FLOOR), None)
+    for row in rows:
+        failed = row.pop("failed")
+        row.update(over_noise_floor(row, noise_row), failed=failed)
     tables.write_csv(args.out / "results.csv", rows)
     tables.write_markdown(args.out / "results.md", rows)
     (args.out / "study.json").write_text(json.dumps({"variants": args.variants, "scene": str(args.scene),
