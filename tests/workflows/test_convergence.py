@@ -1,9 +1,14 @@
 """The convergence studies (workflows/convergence): each run is the demo column with its own cell and
 grid, so two packing seeds of one N run different packings and two grid sizes different point sets;
-a study run again keeps its finished runs."""
+a study run again keeps its finished runs. Their measures of how far a column has gone agree on a rigid
+translation."""
 import json
+import sys
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run, vtu
+
+sys.path.insert(0, str(WORKFLOWS / "convergence"))
+from live_demo import MEASURES, measures_at  # noqa: E402
 
 
 class ConvergenceTest(WorkflowTest):
@@ -39,5 +44,24 @@ class ConvergenceTest(WorkflowTest):
         self.assertEqual(points[1], 4 * points[0], "half the grid size, one point per cell: four times the points")
         # Both runouts are far below 1 cm, where no change and no spread is reported.
         self.assertTrue(all(c["change"] is None for c in result["changes"]))
-        self.assertEqual(result["seed_spread"], [{"t": 0.02, "spread": None}])  # at N = 32, from cell_size.json
+        # From the two seed runs at N = 32, one per measure; too short a runout for a spread.
+        self.assertEqual([(s["measure"], s["spread"]) for s in result["seed_spread"]],
+                         [(key, None) for key in MEASURES])
+        self.assertTrue(all(r[key] is not None for r in result["rows"] for key in MEASURES))
         self.assert_png(self.out / "mesh.png")
+
+    def test_every_measure_is_the_shift_of_a_rigid_translation(self):
+        # Elastic points moving at 1 m/s with no gravity and no obstacle: front, mass edge and centroid
+        # all advance by 1 m/s × t.
+        scene = {"grid": {"cell_size": 0.1, "cells": [10, 4]}, "time": {"end": 0.02, "output_interval": 0.01},
+                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.1], "max": [0.4, 0.3]},
+                              "velocity": [1.0, 0.0]}]}
+        (self.out / "scene.json").write_text(json.dumps(scene))
+        run([BUILD / "mpm_solver" / "mpm_solver", self.out / "scene.json", "--out", self.out / "run", "--threads", "1"])
+        for t in (0.01, 0.02):
+            measures = measures_at(self.out / "run", t)
+            self.assertEqual(sorted(measures), sorted(MEASURES))
+            for key, value in measures.items():
+                self.assertAlmostEqual(value, t, delta=1e-9, msg=key)
+        self.assertEqual(measures_at(self.out / "run", 0.03), dict.fromkeys(MEASURES))  # past the end

@@ -20,15 +20,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import environment, tables  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
-from live_demo import MIN_RUNOUT, run, runout_at  # noqa: E402
-
-
-def spread(values):
-    """(max − min) / mean of the seeds' runouts; None below two runs or a mean runout of MIN_RUNOUT."""
-    values = [v for v in values if v is not None]
-    if len(values) < 2 or statistics.mean(values) < MIN_RUNOUT:
-        return None
-    return (max(values) - min(values)) / statistics.mean(values)
+from live_demo import run, runout_at, spread  # noqa: E402
 
 
 def main():

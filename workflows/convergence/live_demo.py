@@ -4,9 +4,12 @@ runs in OUT/runs/ are kept, so an interrupted study resumes, and the studies run
 their common runs."""
 import json
 import math
+import statistics
 from pathlib import Path
 
-from plotting import flow, run_compare, scenes, tables
+import numpy as np
+
+from plotting import flow, run_compare, scenes, tables, vtu
 
 HERE = Path(__file__).resolve().parent
 SCENE = HERE.parent / "demo" / "column.json"
@@ -15,11 +18,15 @@ MIN_RUNOUT = 0.01
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 
 
+def run_name(spheres, seed, grid_factor):
+    return f"n{spheres}_seed{seed}" + ("" if grid_factor == 1 else f"_h{grid_factor:g}")
+
+
 def run(build, out, end, threads, spheres=125, seed=1, grid_factor=1.0):
     """Returns (series or None when the run failed before writing one, {wall_s, cpu_s, failed}). The run
     is named by what it varies, so that the studies share it: OUT/runs/n125_seed1 is the cell-size
     study's N = 125 and the mesh study's h = 0.05 m."""
-    name = f"n{spheres}_seed{seed}" + ("" if grid_factor == 1 else f"_h{grid_factor:g}")
+    name = run_name(spheres, seed, grid_factor)
     cell = json.loads(CELL.read_text())
     cell["preparation"]["spheres"], cell["preparation"]["seed"] = spheres, seed
     cell_file = out / "cells" / f"{name}.json"
@@ -42,3 +49,36 @@ def runout_at(series, t):
     if series is None or series["t"][-1] < t - 1e-9:
         return None
     return float(flow.runout(series)[min(range(len(series["t"])), key=lambda k: abs(series["t"][k] - t))])
+
+
+# The share of the mass behind the mass edge: the front is the farthest point, so a few stress-free
+# points sliding ahead of the toe set it; the mass edge and the centroid follow the bulk.
+MASS_EDGE_QUANTILE = 0.95
+# What a run is measured by: how far the column has gone along x since the start [m].
+MEASURES = {"runout_m": "runout (front)", "mass_edge_advance_m": "advance of the 95 % mass edge",
+            "centroid_advance_m": "advance of the centroid"}
+
+
+def measures_at(run_folder, t):
+    """{measure: value [m]} of MEASURES at time t, each None when the run stopped before t. The demo's
+    points have equal mass (one point per grid cell of one uniform region), so the mass edge and the
+    centroid are taken over points."""
+    series_file = Path(run_folder) / "series.csv"
+    runout = runout_at(tables.read_csv(series_file) if series_file.exists() else None, t)
+    snapshots = vtu.read_run(run_folder)
+    at_t = next((s for s in snapshots if abs(s.time - t) < 1e-9), None)
+    if at_t is None:
+        return {"runout_m": runout, "mass_edge_advance_m": None, "centroid_advance_m": None}
+    x0, x = snapshots[0].xy[:, 0], at_t.xy[:, 0]
+    return {"runout_m": runout,
+            "mass_edge_advance_m": float(np.quantile(x, MASS_EDGE_QUANTILE) - np.quantile(x0, MASS_EDGE_QUANTILE)),
+            "centroid_advance_m": float(x.mean() - x0.mean())}
+
+
+def spread(values):
+    """(max − min) / mean of runs' values of one measure (the packing seeds' spread); None below two runs
+    or a mean of MIN_RUNOUT."""
+    values = [v for v in values if v is not None]
+    if len(values) < 2 or statistics.mean(values) < MIN_RUNOUT:
+        return None
+    return (max(values) - min(values)) / statistics.mean(values)
