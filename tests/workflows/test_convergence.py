@@ -5,7 +5,7 @@ translation."""
 import json
 import sys
 
-from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run, vtu
+from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run, run_rigid_translation, vtu
 
 sys.path.insert(0, str(WORKFLOWS / "convergence"))
 from live_demo import MEASURES, measures_at  # noqa: E402
@@ -51,17 +51,11 @@ class ConvergenceTest(WorkflowTest):
         self.assert_png(self.out / "mesh.png")
 
     def test_every_measure_is_the_shift_of_a_rigid_translation(self):
-        # Elastic points moving at 1 m/s with no gravity and no obstacle: front, mass edge and centroid
-        # all advance by 1 m/s × t.
-        scene = {"grid": {"cell_size": 0.1, "cells": [10, 4]}, "time": {"end": 0.02, "output_interval": 0.01},
-                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
-                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.1], "max": [0.4, 0.3]},
-                              "velocity": [1.0, 0.0]}]}
-        (self.out / "scene.json").write_text(json.dumps(scene))
-        run([BUILD / "mpm_solver" / "mpm_solver", self.out / "scene.json", "--out", self.out / "run", "--threads", "1"])
+        # At 1 m/s, front, mass edge and centroid all advance by 1 m/s × t.
+        translated = run_rigid_translation(self.out, speed=1.0, end=0.02)
         for t in (0.01, 0.02):
-            measures = measures_at(self.out / "run", t)
+            measures = measures_at(translated, t)
             self.assertEqual(sorted(measures), sorted(MEASURES))
             for key, value in measures.items():
                 self.assertAlmostEqual(value, t, delta=1e-9, msg=key)
-        self.assertEqual(measures_at(self.out / "run", 0.03), dict.fromkeys(MEASURES))  # past the end
+        self.assertEqual(measures_at(translated, 0.03), dict.fromkeys(MEASURES))  # past the end

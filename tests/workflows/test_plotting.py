@@ -1,11 +1,10 @@
 """The shared helpers of workflows/plotting against known answers: the VTU/PVD reader on a rigid
 translation run by mpm_solver, the flow measures and errors on hand-made snapshots, the tables and
 the PNG check."""
-import json
 
 import numpy as np
 
-from workflow_test_util import BUILD, WorkflowTest, run
+from workflow_test_util import WorkflowTest, run_rigid_translation
 from plotting import flow, png, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
@@ -23,14 +22,7 @@ def snapshot(xy, stress=None, ids=None):
 
 class ReaderTest(WorkflowTest):
     def test_rigid_translation_read_back(self):
-        # Elastic points moving at 1 m/s with no gravity and no obstacle translate exactly.
-        scene = {"grid": {"cell_size": 0.1, "cells": [10, 4]}, "time": {"end": 0.02, "output_interval": 0.01},
-                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
-                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.1], "max": [0.4, 0.3]},
-                              "velocity": [1.0, 0.0]}]}
-        (self.out / "scene.json").write_text(json.dumps(scene))
-        run([BUILD / "mpm_solver" / "mpm_solver", self.out / "scene.json", "--out", self.out / "run", "--threads", "1"])
-        snapshots = vtu.read_run(self.out / "run")
+        snapshots = vtu.read_run(run_rigid_translation(self.out, speed=1.0, end=0.02))
         self.assertEqual([round(s.time, 9) for s in snapshots], [0.0, 0.01, 0.02])
         first, last = snapshots[0], snapshots[-1]
         self.assertEqual(len(first), 16)  # 2 × 2 cells, 2 × 2 points per cell

@@ -1,5 +1,6 @@
-"""Shared by the workflow tests: where the tools are, running a workflow command, and checks that an
-output is well-formed (a VTU that parses, a PNG that decodes, a JSON with its fields)."""
+"""Shared by the workflow tests: where the tools are, running a workflow command, a run with a known
+answer (a rigid translation), and checks that an output is well-formed (a VTU that parses, a PNG that
+decodes, a JSON with its fields)."""
 import json
 import os
 import subprocess
@@ -28,6 +29,18 @@ def run(command, **env):
     if done.returncode != 0:
         raise AssertionError(f"{command} exited with {done.returncode}:\n{done.stdout}\n{done.stderr}")
     return done.stdout
+
+
+def run_rigid_translation(out, speed=1.0, end=0.02):
+    """Elastic points moving at `speed` [m/s] along x, with no gravity and no obstacle, run by mpm_solver
+    to `end` [s] with output every 0.01 s: an exact translation. Returns the run folder."""
+    scene = {"grid": {"cell_size": 0.1, "cells": [10, 4]}, "time": {"end": end, "output_interval": 0.01},
+             "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+             "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.1], "max": [0.4, 0.3]},
+                          "velocity": [speed, 0.0]}]}
+    (out / "scene.json").write_text(json.dumps(scene))
+    run([BUILD / "mpm_solver" / "mpm_solver", out / "scene.json", "--out", out / "run", "--threads", "1"])
+    return out / "run"
 
 
 class WorkflowTest(unittest.TestCase):
