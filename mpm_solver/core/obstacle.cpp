@@ -19,6 +19,29 @@ Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, dou
   if (!velocity_.allFinite()) throw std::invalid_argument("velocity: expected finite numbers");
 }
 
+std::string Obstacle::penetration_message(double overlap, double radius, double mass, const Vec2& v) const {
+  const double speed = (v - velocity_).norm();
+  // A point arriving at `speed` is stopped within kMaxPenetration·radius by a spring storing its kinetic
+  // energy: ½ k_n (kMaxPenetration r)² ≥ ½ m v².
+  const double allowed = kMaxPenetration * radius;
+  const double impact_k_n = mass * speed * speed / (allowed * allowed);
+  std::ostringstream msg;
+  msg << "penetrates the obstacle by " << overlap << " m, more than " << kMaxPenetration << " of its disk radius "
+      << radius << " m, at speed " << speed << " m/s: raise the obstacle's k_n (now " << contact_.k_n << " N/m per m)";
+  if (contact_.k_n < impact_k_n) {
+    msg << " above " << impact_k_n << ", what stops a point at this speed within " << allowed
+        << " m (k_n > m v^2 / (" << kMaxPenetration << " radius)^2), or lower the impact speed";
+  } else {
+    // Its speed alone would have been stopped: the load on it (the stress of the material above,
+    // gravity) presses it in, past what the spring holds at the allowed overlap.
+    msg << ": the load pressing it in (the stress of the material above it, gravity) exceeds the "
+        << contact_.k_n * allowed << " N/m it holds within " << allowed
+        << " m, while its speed alone needs only k_n > m v^2 / (" << kMaxPenetration << " radius)^2 = " << impact_k_n
+        << "; check the stress its law returns too";
+  }
+  return msg.str();
+}
+
 Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass,
                              double t, double dt) {
   // Work in the obstacle's frame: it only translates.
@@ -31,14 +54,7 @@ Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, dou
     if (contact_.friction > 0) tangential_[id] = 0;
     return Vec2::Zero();
   }
-  if (overlap > kMaxPenetration * radius) {
-    std::ostringstream msg;
-    msg << "penetrates the obstacle by " << overlap << " m, more than " << kMaxPenetration << " of its disk radius "
-        << radius << " m, at speed " << (v - velocity_).norm() << " m/s: raise the obstacle's k_n (now " << contact_.k_n
-        << " N/m per m; the contact stops a point within radius/2 only if k_n > 4 m v^2 / radius^2 = "
-        << 4 * mass * (v - velocity_).squaredNorm() / (radius * radius) << ") or lower the impact speed";
-    throw PenetrationError(msg.str());
-  }
+  if (overlap > kMaxPenetration * radius) throw PenetrationError(penetration_message(overlap, radius, mass, v));
   // Unit normal pushing the point out of the obstacle.
   const Vec2 n = (inside ? -to_point : to_point) / d;
   const Vec2 v_rel = v - velocity_;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "mpm_solver/core/geometry.hpp"
@@ -49,12 +50,15 @@ class Obstacle {
   // Contact force on the disk (centre x, radius r, velocity v, mass m) of point `id` at time t over a
   // step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
-  // radius: the spring is too soft for the impact, and a centre crossing a line would be pushed on
-  // through it (silent tunnelling) instead of back.
+  // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
+  // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says
+  // which of the two it is and the k_n that would have held it.
   Vec2 contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass, double t,
                      double dt);
 
  private:
+  std::string penetration_message(double overlap, double radius, double mass, const Vec2& v) const;
+
   Polyline shape_;
   ContactParameters contact_;
   Vec2 velocity_;
