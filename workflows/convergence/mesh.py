@@ -25,6 +25,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import environment, tables  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
+from matplotlib.ticker import NullFormatter  # noqa: E402
 from live_demo import MEASURES, MIN_RUNOUT, SCENE, measures_at, run, run_name, spread  # noqa: E402
 
 
@@ -109,6 +110,8 @@ def main():
             if points:
                 ax.plot(*zip(*points), "o-", label=f"t = {t:g} s")
         ax.set_xscale("log")
+        ax.set_xticks(sizes, labels=[f"{h:g}" for h in sizes])
+        ax.xaxis.set_minor_formatter(NullFormatter())  # the grid sizes are the ticks
         ax.set_title(label, fontsize=9)
         ax.set_xlabel("grid cell size h [m]")
         ax.grid(alpha=0.3)
