@@ -59,20 +59,23 @@ MEASURES = {"runout_m": "runout (front)", "mass_edge_advance_m": "advance of the
             "centroid_advance_m": "advance of the centroid"}
 
 
-def measures_at(run_folder, t):
-    """{measure: value [m]} of MEASURES at time t, each None when the run stopped before t. The demo's
-    points have equal mass (one point per grid cell of one uniform region), so the mass edge and the
-    centroid are taken over points."""
+def measures_at(run_folder, times):
+    """{t: {measure: value [m]}} of MEASURES at each of `times`, a value None when the run stopped before
+    t; the run's files are read once. The demo's points have equal mass (one point per grid cell of one
+    uniform region), so the mass edge and the centroid are taken over points."""
     series_file = Path(run_folder) / "series.csv"
-    runout = runout_at(tables.read_csv(series_file) if series_file.exists() else None, t)
+    series = tables.read_csv(series_file) if series_file.exists() else None
     snapshots = vtu.read_run(run_folder)
-    at_t = next((s for s in snapshots if abs(s.time - t) < 1e-9), None)
-    if at_t is None:
-        return {"runout_m": runout, "mass_edge_advance_m": None, "centroid_advance_m": None}
-    x0, x = snapshots[0].xy[:, 0], at_t.xy[:, 0]
-    return {"runout_m": runout,
-            "mass_edge_advance_m": float(np.quantile(x, MASS_EDGE_QUANTILE) - np.quantile(x0, MASS_EDGE_QUANTILE)),
-            "centroid_advance_m": float(x.mean() - x0.mean())}
+    x0 = snapshots[0].xy[:, 0]
+    measures = {}
+    for t in times:
+        at_t = next((s for s in snapshots if abs(s.time - t) < 1e-9), None)
+        x = None if at_t is None else at_t.xy[:, 0]
+        measures[t] = {"runout_m": runout_at(series, t),
+                       "mass_edge_advance_m": None if x is None else
+                       float(np.quantile(x, MASS_EDGE_QUANTILE) - np.quantile(x0, MASS_EDGE_QUANTILE)),
+                       "centroid_advance_m": None if x is None else float(x.mean() - x0.mean())}
+    return measures
 
 
 def spread(values):

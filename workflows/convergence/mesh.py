@@ -35,8 +35,8 @@ def seed_spreads(floor_out, spheres, times):
     pattern = re.compile(rf"n{spheres}_seed\d+")
     folders = [f for f in sorted((Path(floor_out) / "runs").glob(f"n{spheres}_seed*"))
                if pattern.fullmatch(f.name) and (f / "study_run.json").exists()]
-    by_time = {t: [measures_at(f, t) for f in folders] for t in times}
-    return {(key, t): spread([m[key] for m in by_time[t]]) for key in MEASURES for t in times}
+    per_run = [measures_at(f, times) for f in folders]
+    return {(key, t): spread([m[t][key] for m in per_run]) for key in MEASURES for t in times}
 
 
 def change_table(rows, sizes, times, key, label):
@@ -80,8 +80,8 @@ def main():
     for factor in args.grid_factors:
         _, cost = run(build, args.out, args.end, args.threads, args.spheres, 1, factor)
         folder = args.out / "runs" / run_name(args.spheres, 1, factor)
-        for t in args.times:
-            rows.append({"h_m": base_h * factor, "t": t, **measures_at(folder, t), "cpu_s": cost["cpu_s"],
+        for t, measures in measures_at(folder, args.times).items():
+            rows.append({"h_m": base_h * factor, "t": t, **measures, "cpu_s": cost["cpu_s"],
                          "failed": cost["failed"]})
         print(f"h = {base_h * factor:g} m: {cost['cpu_s']:.0f} CPU-s" + (f", {cost['failed']}" if cost["failed"] else ""),
               flush=True)
