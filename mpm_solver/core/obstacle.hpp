@@ -52,7 +52,8 @@ class Obstacle {
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
   // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
   // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says
-  // which of the two it is and the k_n that would have held it.
+  // which of the two it is: for an impact the k_n that would have stopped it, for a load the force the
+  // spring holds at the allowed overlap.
   Vec2 contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass, double t,
                      double dt);
 
