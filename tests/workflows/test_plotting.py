@@ -5,7 +5,7 @@ the PNG check."""
 import numpy as np
 
 from workflow_test_util import WorkflowTest, run_rigid_translation
-from plotting import flow, png, tables, vtu
+from plotting import flow, png, spreading, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
 
@@ -62,6 +62,37 @@ class FlowTest(WorkflowTest):
         np.testing.assert_allclose(flow.deposit_profile(s, [0, 0.1, 0.2, 0.3, 0.4]), [0.3, 0.2, 0.0, 0.05])
         lower = snapshot([[0.05, 0.1], [0.15, 0.2], [0.35, 0.05]])
         self.assertAlmostEqual(flow.profile_error(lower, s, [0, 0.1, 0.2, 0.3, 0.4]), np.sqrt(0.2 ** 2 / 4))
+
+
+class SpreadingTest(WorkflowTest):
+    def test_a_rigid_translation_runs_out_on_one_side_and_back_on_the_other(self):
+        snapshots = vtu.read_run(run_rigid_translation(self.out, speed=1.0, end=0.02))
+        first, last = spreading.spreading(snapshots)[0], spreading.spreading(snapshots)[-1]
+        self.assertAlmostEqual(last["runout_right"], 0.02, places=12)
+        self.assertAlmostEqual(last["runout_left"], -0.02, places=12)
+        self.assertAlmostEqual(last["centroid_shift"], 0.02, places=12)
+        self.assertAlmostEqual(first["centroid_shift"], 0.0, places=12)
+        for corner in ("corner_left", "corner_right"):
+            np.testing.assert_allclose(last[corner], np.array(first[corner]) + [0.02, 0.0], atol=1e-12)
+        self.assertLess(first["corner_left"][0], first["corner_right"][0])
+        spreading.deposit_figure(snapshots, spreading.spreading(snapshots), self.out / "deposit.png")
+        self.assert_png(self.out / "deposit.png")
+
+    def test_a_symmetric_spread_has_no_asymmetry_and_a_lopsided_one_has(self):
+        xy = np.array([[x, y] for x in (1.0, 2.0, 3.0) for y in (0.0, 1.0)])
+        start = vtu.Snapshot(0.0, xy, {"id": np.arange(6)})
+        symmetric = vtu.Snapshot(1.0, np.column_stack([2 + 2 * (xy[:, 0] - 2), 0.5 * xy[:, 1]]), {"id": np.arange(6)})
+        lopsided_x = np.where(xy[:, 0] > 2, xy[:, 0] + 3, xy[:, 0] - 1)
+        lopsided = vtu.Snapshot(1.0, np.column_stack([lopsided_x, xy[:, 1]]), {"id": np.arange(6)})
+        even = spreading.spreading([start, symmetric])[-1]
+        self.assertEqual((even["runout_left"], even["runout_right"], even["asymmetry"]), (1.0, 1.0, 0.0))
+        self.assertEqual(even["centroid_shift"], 0.0)
+        self.assertEqual(even["height"], 0.5)
+        self.assertEqual((even["corner_left"], even["corner_right"]), ([0.0, 0.5], [4.0, 0.5]))
+        uneven = spreading.spreading([start, lopsided])[-1]
+        self.assertEqual((uneven["runout_left"], uneven["runout_right"]), (1.0, 3.0))
+        self.assertAlmostEqual(uneven["asymmetry"], 1.0)  # (3 − 1) / 2
+        self.assertAlmostEqual(uneven["centroid_shift"], (2 * 3 - 4 * 1) / 6)  # two points +3, four −1
 
 
 class TablesTest(WorkflowTest):

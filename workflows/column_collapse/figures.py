@@ -3,8 +3,10 @@
 [--panels N]. Several run folders are the segments of a resumed run (run, run_2, …), in order.
 
 Velocity norm, ε̇_q (seed Eq. 5, the solver's strain_rate_q) and damage D at N times, the front and
-height over time, the hit rate (hybrid, cache), the damage of the tracked points and the bond count of
-their DEM cells (cells/*.vtk, written for live points).
+height over time, the hit rate (hybrid, cache), the runout on each side and the centroid's shift
+(spreading.png), the last deposit with its mirror image and the paths of the two top corners
+(deposit.png; numbers in spreading.json, with kinetic energy over its peak), the damage of the
+tracked points and the bond count of their DEM cells (cells/*.vtk, written for live points).
 """
 import argparse
 import sys

@@ -1,12 +1,14 @@
 """The figures of a column-collapse run (demo and the paper's benchmark), after seed Figs. 4 and 5:
 snapshots coloured by velocity norm, by the deviatoric strain rate ε̇_q and by damage D, by the source
-of each point's stress, the front and height over time, the hit rate, and the tracked cells."""
+of each point's stress, the front and height over time, the hit rate, each side's runout, the deposit
+and the top corners (spreading.py), and the tracked cells."""
+import json
 from pathlib import Path
 
 import matplotlib.colors as colors
 import numpy as np
 
-from . import figures, tables, tracked_cells, vtu
+from . import figures, spreading, tables, tracked_cells, vtu
 
 SOURCES = ["analytic", "live", "hit", "miss"]  # StressSource codes 0–3 of the VTU field `source`
 
@@ -98,6 +100,21 @@ def joined_tables(parts, ends):
     return {k: np.concatenate([p[k][p["t"] < end] for p, end in zip(parts, ends)]) for k in shared}
 
 
+def spreading_outputs(snapshots, series, out):
+    """spreading.png, deposit.png and spreading.json: each side's runout, the centroid, the top corners
+    and the deposit (spreading.py), with how far the run is from rest (kinetic energy over its peak)."""
+    rows = spreading.spreading(snapshots)
+    spreading.spreading_figure(rows, out / "spreading.png")
+    spreading.deposit_figure(snapshots, rows, out / "deposit.png")
+    energy = series["kinetic_energy"]
+    summary = {"final": rows[-1], "kinetic_energy_peak": float(energy.max()),
+               "kinetic_energy_final": float(energy[-1]),
+               "kinetic_energy_over_peak": float(energy[-1] / energy.max()) if energy.max() > 0 else 0.0,
+               "rows": rows}
+    (out / "spreading.json").write_text(json.dumps(summary, indent=1) + "\n")
+    return ["spreading.png", "deposit.png", "spreading.json"]
+
+
 def all_figures(run_dirs, out, panels=5):
     """Writes every figure of a run into `out`; returns their file names. `run_dirs` is one run folder,
     or the folders of a run and its resumed segments, in order."""
@@ -105,7 +122,10 @@ def all_figures(run_dirs, out, panels=5):
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
     ends = segment_ends(run_dirs)
-    made = snapshot_figures([s for d, end in zip(run_dirs, ends) for s in vtu.read_run(d) if s.time < end], out, panels)
-    made += series_figures(joined_tables([tables.read_csv(d / "series.csv") for d in run_dirs], ends), out)
+    snapshots = [s for d, end in zip(run_dirs, ends) for s in vtu.read_run(d) if s.time < end]
+    series = joined_tables([tables.read_csv(d / "series.csv") for d in run_dirs], ends)
+    made = snapshot_figures(snapshots, out, panels)
+    made += series_figures(series, out)
+    made += spreading_outputs(snapshots, series, out)
     made += tracked_figures(run_dirs, out)
     return made

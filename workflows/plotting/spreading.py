@@ -1,0 +1,80 @@
+"""How a column released on both sides spreads: what the paper's description of its column (seed §4)
+can be checked against. From a run's snapshots (equal-mass points, as one uniform region seeds them):
+
+- the runout on each side, from the column's initial edges, and their asymmetry: a symmetric column
+  on a symmetric base spreads symmetrically unless something breaks the symmetry (the seed's
+  "spontaneous symmetry breaking", from the independent microstructures of the cells);
+- the shift of the mass centroid from the column's axis (the same, weighed by mass, not by the tips);
+- the two top corners: the points that started there, followed to the end ("the two initial top
+  corners of the column remain distinguishable even in later phases");
+- the deposit profile of the last snapshot, with its mirror image about the column's axis.
+"""
+import numpy as np
+
+from . import figures, flow
+
+
+def top_corner_ids(first):
+    """Ids of the points at the top-left and top-right corners of the first snapshot."""
+    x, y = first.xy[:, 0], first.xy[:, 1]
+    return int(first.fields["id"][np.argmax(y - x)]), int(first.fields["id"][np.argmax(y + x)])
+
+
+def position_of(snapshot, point_id):
+    return snapshot.xy[np.flatnonzero(snapshot.fields["id"] == point_id)[0]]
+
+
+def spreading(snapshots):
+    """One row per snapshot: t, runout_left, runout_right [m] (beyond the initial edges), asymmetry
+    (right − left over their mean; 0 when neither has moved), centroid_shift [m] (positive to the right)
+    and height [m] (highest point), and the positions of the two top corners."""
+    first = snapshots[0]
+    left0, right0 = first.xy[:, 0].min(), first.xy[:, 0].max()
+    axis = 0.5 * (left0 + right0)
+    corners = top_corner_ids(first)
+    rows = []
+    for s in snapshots:
+        x = s.xy[:, 0]
+        left, right = float(left0 - x.min()), float(x.max() - right0)
+        mean = 0.5 * (left + right)
+        rows.append({"t": s.time, "runout_left": left, "runout_right": right,
+                     "asymmetry": (right - left) / mean if mean > 0 else 0.0,
+                     "centroid_shift": float(x.mean() - axis), "height": float(s.xy[:, 1].max()),
+                     "corner_left": position_of(s, corners[0]).tolist(),
+                     "corner_right": position_of(s, corners[1]).tolist()})
+    return rows
+
+
+def spreading_figure(rows, out):
+    t = np.array([r["t"] for r in rows])
+    figures.time_plot(out, [(t, [r["runout_left"] for r in rows], "runout, left [m]", None),
+                            (t, [r["runout_right"] for r in rows], "runout, right [m]", {"linestyle": "--"}),
+                            (t, [r["centroid_shift"] for r in rows], "centroid shift (to the right) [m]",
+                             {"linestyle": ":"})],
+                      "t [s]", "[m]", title="spreading on each side")
+
+
+def deposit_figure(snapshots, rows, out):
+    """The last snapshot's free surface, its mirror image about the column's axis, the initial column
+    and the paths of its two top corners."""
+    first, last = snapshots[0], snapshots[-1]
+    left0, right0 = first.xy[:, 0].min(), first.xy[:, 0].max()
+    axis = 0.5 * (left0 + right0)
+    step = first.spacing()
+    reach = max(axis - last.xy[:, 0].min(), last.xy[:, 0].max() - axis) + step
+    bins = np.arange(axis - reach, axis + reach + step, step)
+    centres = 0.5 * (bins[1:] + bins[:-1])
+    height = flow.deposit_profile(last, bins)
+    height[height == 0] = np.nan  # no point in the bin: no surface to draw
+    fig, ax = figures.plt.subplots(figsize=(8, 3.4))
+    ax.plot(centres, height, label=f"free surface at t = {last.time:.3g} s")
+    ax.plot(2 * axis - centres, height, linestyle="--", label="its mirror image about the column's axis")
+    base = first.xy[:, 1].min()
+    ax.plot([left0, left0, right0, right0], [base, first.xy[:, 1].max(), first.xy[:, 1].max(), base],
+            color="grey", linewidth=0.8, label="initial column (point centres)")
+    for side in ("corner_left", "corner_right"):
+        path = np.array([r[side] for r in rows])
+        ax.plot(path[:, 0], path[:, 1], marker=".", markersize=3, linewidth=0.8,
+                label=f"top {side.split('_')[1]} corner's path")
+    ax.set_aspect("equal")
+    figures.finish_and_save(fig, ax, out, "x [m]", "height [m]")
