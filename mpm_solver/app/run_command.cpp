@@ -2,6 +2,7 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -9,6 +10,7 @@
 #include <limits>
 #include <optional>
 
+#include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/io/audit_trail.hpp"
 #include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
@@ -71,7 +73,8 @@ nlohmann::json run_scene(const RunOptions& options) {
   const std::filesystem::path scene_file = scene_of_run(options);
   io::Scene scene = load_scene(options, scene_file);
   Solver& solver = *scene.solver;
-  if (!options.restart.empty()) io::read_restart(options.restart, solver);
+  io::RunRecord run_record;
+  if (!options.restart.empty()) run_record = io::read_restart(options.restart, solver);
   std::optional<io::AuditTrailRecorder> audit_trail;
   if (!scene.audited_points.empty())
     audit_trail.emplace(solver, scene.audited_points, std::filesystem::absolute(scene_file).string());
@@ -96,14 +99,20 @@ nlohmann::json run_scene(const RunOptions& options) {
     tracked_cells.write(solver, snapshots - 1);
     // At a snapshot, so that a run resumed from the checkpoint starts on its own output schedule.
     if (seconds_since(last_checkpoint) >= options.checkpoint_every) {
-      io::write_restart(restart, solver);
+      io::write_restart(restart, solver, run_record);
       last_checkpoint = Clock::now();
     }
     output_time += seconds_since(t0);
   };
+  bool at_rest = false;
   const auto record = [&](double dt) {
     series.write(solver, dt);
     if (tracked) tracked->write(solver);
+    const double energy = measure_flow(solver.points()).kinetic_energy;
+    run_record.kinetic_energy_peak = std::max(run_record.kinetic_energy_peak, energy);
+    if (const auto& rest = scene.stop_at_rest)
+      at_rest = solver.time() >= rest->not_before * (1 - 1e-12) &&
+                energy < rest->kinetic_energy_fraction * run_record.kinetic_energy_peak;
   };
 
   const Clock::time_point loop_start = Clock::now();
@@ -115,7 +124,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   double dt_min = std::numeric_limits<double>::infinity(), dt_max = 0;
   Clock::time_point last_report = loop_start;
   const auto stop_requested = [&] { return options.stop && options.stop->load(); };
-  while (solver.time() < scene.end_time * (1 - 1e-12) && !stop_requested()) {
+  while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !stop_requested()) {
     // Land exactly on the next output, row or end time.
     const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
     const double dt = std::min(solver.stable_time_step(), horizon - solver.time());
@@ -136,8 +145,8 @@ nlohmann::json run_scene(const RunOptions& options) {
   if (options.progress) std::fprintf(stderr, "\n");
   const double run_time = seconds_since(loop_start);
   // Checked once: a signal arriving after the loop ended does not make a finished run "interrupted".
-  const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12);
-  io::write_restart(restart, solver);
+  const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12) && !at_rest;
+  io::write_restart(restart, solver, run_record);
   if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
 
   const double updates = static_cast<double>(solver.steps()) * static_cast<double>(solver.points().size());
@@ -155,6 +164,8 @@ nlohmann::json run_scene(const RunOptions& options) {
                      {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
       {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0},
       {"interrupted", interrupted},
+      {"at_rest", at_rest},
+      {"kinetic_energy_peak", run_record.kinetic_energy_peak},
       {"restart", restart.string()}};
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
   solver.finish();

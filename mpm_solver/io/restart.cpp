@@ -73,9 +73,10 @@ class LawEntries : public LawStateWriter, public LawStateReader {
   std::string prefix_;
 };
 
-void write_contents(const h5::Object& root, const Solver& solver) {
+void write_contents(const h5::Object& root, const Solver& solver, const RunRecord& run) {
   h5::write_attribute(root, "format", std::string(kFormat));
   h5::write_attribute(root, "time", solver.time());
+  h5::write_attribute(root, "kinetic_energy_peak", run.kinetic_energy_peak);
   h5::write_attribute(root, "steps", static_cast<std::int64_t>(solver.steps()));
   std::vector<double> rows;
   for (const MaterialPoint& mp : solver.points()) append_row(rows, mp);
@@ -95,7 +96,7 @@ void write_contents(const h5::Object& root, const Solver& solver) {
 
 }  // namespace
 
-void write_restart(const std::filesystem::path& file, const Solver& solver) {
+void write_restart(const std::filesystem::path& file, const Solver& solver, const RunRecord& run) {
   // Written aside and renamed at the end: an existing restart file (perhaps the one this run
   // started from) is replaced only by a complete one.
   std::filesystem::path partial = file;
@@ -103,13 +104,13 @@ void write_restart(const std::filesystem::path& file, const Solver& solver) {
   std::filesystem::remove(partial);
   {
     const h5::Object root = h5::create_file(partial);
-    write_contents(root, solver);
+    write_contents(root, solver, run);
     h5::flush(root);
   }
   std::filesystem::rename(partial, file);
 }
 
-void read_restart(const std::filesystem::path& file, Solver& solver) {
+RunRecord read_restart(const std::filesystem::path& file, Solver& solver) {
   const h5::Object root = h5::open_file(file, false);
   std::string format = "grainbank-restart-1";  // files of version 1 had no format attribute
   try {
@@ -142,6 +143,12 @@ void read_restart(const std::filesystem::path& file, Solver& solver) {
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
   }
+  RunRecord run;
+  try {
+    run.kinetic_energy_peak = h5::read_double_attribute(root, "kinetic_energy_peak");
+  } catch (const db::StoreError&) {  // a file of an older build: the resumed run's peak starts afresh
+  }
+  return run;
 }
 
 }  // namespace grainbank::mpm::io

@@ -2,7 +2,7 @@
 // point, the obstacles' tangential contact history, the full state of every live DEM cell and what
 // the points of cache/hybrid laws carry (damage, steps inside the tolerance, replay history) — so
 // that a solver built from the same scene and restored continues exactly like the uninterrupted run.
-// Layout: attributes format (kRestartFormat), time, steps; dataset points (one row per point, see restart.cpp); dataset
+// Layout: attributes format (kRestartFormat), time, steps, kinetic_energy_peak; dataset points (one row per point, see restart.cpp); dataset
 // obstacle_tangential (obstacles × points); group law_<i>_cell_<slot> per live cell (as in the
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.
@@ -22,10 +22,16 @@ inline constexpr const char* kRestartFormat = "grainbank-restart-3";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
 
-void write_restart(const std::filesystem::path& file, const Solver& solver);
+// What the run itself has seen, beyond the solver's state: kept so that a resumed run judges as the
+// uninterrupted one would (attribute kinetic_energy_peak; absent in files of older builds: 0).
+struct RunRecord {
+  double kinetic_energy_peak = 0;  // the largest kinetic energy of any series row so far [J/m]
+};
+
+void write_restart(const std::filesystem::path& file, const Solver& solver, const RunRecord& run = {});
 
 // `solver` must come from the same scene (same laws, obstacles and number of points); throws
-// std::runtime_error naming the file otherwise.
-void read_restart(const std::filesystem::path& file, Solver& solver);
+// std::runtime_error naming the file otherwise. Returns the run's record.
+RunRecord read_restart(const std::filesystem::path& file, Solver& solver);
 
 }  // namespace grainbank::mpm::io

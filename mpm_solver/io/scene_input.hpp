@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -14,9 +15,17 @@
 
 namespace grainbank::mpm::io {
 
+// "stop_at_rest": the run ends, as finished, at the first series row at or after `not_before` whose
+// kinetic energy is below `kinetic_energy_fraction` of the largest of any row so far.
+struct RestCriterion {
+  double kinetic_energy_fraction = 0;  // in (0, 1)
+  double not_before = 0;               // [s]: e.g. after a release, so that a settling phase does not count
+};
+
 struct Scene {
   std::unique_ptr<Solver> solver;
   double end_time = 0;
+  std::optional<RestCriterion> stop_at_rest;
   double output_interval = 0;  // VTU snapshots
   double series_interval = 0;  // rows of the CSV time series and of the tracked points
   std::vector<std::string> material_names;  // by law index

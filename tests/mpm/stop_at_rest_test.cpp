@@ -1,0 +1,113 @@
+// time.stop_at_rest: a run ends once its kinetic energy has fallen below a fraction of its peak.
+// The case: an elastic block launched at v0 along a horizontal line with Coulomb friction μ. It
+// slides to rest at t_s = v0 / (μ g), its kinetic energy ½ M (v0 − μ g t)² falling below a fraction f
+// of its initial value only after t = (1 − √f) t_s; a resumed run keeps the peak of the run it
+// resumes and stops where the uninterrupted one does.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "common/json_input.hpp"
+#include "common/temporary_directory.hpp"
+#include "mpm_solver/app/run_command.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+constexpr double kSpeed = 1.0, kFriction = 0.3, kGravity = 9.81, kFraction = 1e-3, kEnd = 2.0;
+
+std::string block_scene(double end, const std::string& rest) {
+  return R"({"grid": {"origin": [0, 0], "cell_size": 0.025, "cells": [80, 24]},
+  "time": {"end": )" + std::to_string(end) + R"(, "output_interval": 0.05, "series_interval": 0.005)" + rest + R"(},
+  "effects": {"gravity": true, "boundary_friction": true}, "gravity": {"g": [0, -9.81]},
+  "materials": [{"name": "block", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
+  "regions": [{"material": "block", "rectangle": {"min": [0.2, 0.2], "max": [0.5, 0.3]},
+               "points_per_cell": 2, "velocity": [1, 0]}],
+  "obstacles": [{"line": [[0, 0.1999], [2, 0.1999]], "k_n": 1e6, "k_t": 1e6, "friction": 0.3, "damping": 0.5}]})";
+}
+
+// One column of a CSV file with a header line.
+std::vector<double> csv_column(const std::filesystem::path& file, const std::string& name) {
+  std::ifstream in(file);
+  std::string line, cell;
+  std::getline(in, line);
+  std::istringstream header(line);
+  std::size_t column = 0;
+  while (std::getline(header, cell, ',') && cell != name) ++column;
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    for (std::size_t k = 0; k <= column; ++k) std::getline(row, cell, ',');
+    values.push_back(std::stod(cell));
+  }
+  return values;
+}
+
+const std::string kRest = R"(, "stop_at_rest": {"kinetic_energy_fraction": 0.001})";
+
+nlohmann::json run(const TemporaryDirectory& dir, const std::string& name, const std::string& scene,
+                   const std::filesystem::path& restart = {}) {
+  app::RunOptions o;
+  o.scene = dir.write(name + ".json", scene);
+  o.out = dir.path() / name;
+  o.restart = restart;
+  o.progress = false;
+  return app::run_scene(o);
+}
+
+TEST(StopAtRest, ARunEndsAtTheFirstRowBelowTheFractionOfItsPeakAfterTheBlockHasStopped) {
+  const TemporaryDirectory dir("gb_stop_at_rest");
+  const nlohmann::json summary = run(dir, "block", block_scene(kEnd, kRest));
+  const double slide_time = kSpeed / (kFriction * kGravity);
+  EXPECT_TRUE(summary["at_rest"].get<bool>());
+  EXPECT_FALSE(summary["interrupted"].get<bool>());
+  const double stop = summary["final_time"];
+  std::printf("stopped at rest at t = %.3f s; the block slides to rest at t_s = %.3f s\n", stop, slide_time);
+  EXPECT_LT(stop, kEnd);
+  EXPECT_GE(stop, (1 - std::sqrt(kFraction)) * slide_time * 0.95);
+  EXPECT_LE(stop, 1.1 * slide_time);
+  const std::vector<double> energy = csv_column(dir.path() / "block" / "series.csv", "kinetic_energy");
+  double peak = 0;
+  for (double e : energy) peak = std::max(peak, e);
+  EXPECT_NEAR(summary["kinetic_energy_peak"].get<double>(), peak, 1e-12 * peak);
+  // ½ M v0², M = ρ × area: the block is cell-aligned and rests on the line (0.1 mm below its points' disks).
+  EXPECT_NEAR(peak, 0.5 * 1000 * 0.3 * 0.1 * kSpeed * kSpeed, 0.02 * peak);
+  ASSERT_GE(energy.size(), 2u);
+  EXPECT_LT(energy.back(), kFraction * peak);
+  EXPECT_GE(energy[energy.size() - 2], kFraction * peak);  // the first such row, not a later one
+}
+
+TEST(StopAtRest, AResumedRunKeepsThePeakAndStopsWhereTheUninterruptedRunStops) {
+  const TemporaryDirectory dir("gb_stop_at_rest_resumed");
+  const nlohmann::json whole = run(dir, "whole", block_scene(kEnd, kRest));
+  run(dir, "first", block_scene(0.1, kRest));  // still sliding at its end
+  const nlohmann::json resumed = run(dir, "resumed", block_scene(kEnd, kRest), dir.path() / "first" / "restart.h5");
+  EXPECT_TRUE(resumed["at_rest"].get<bool>());
+  EXPECT_EQ(resumed["final_time"].get<double>(), whole["final_time"].get<double>());
+  EXPECT_EQ(resumed["kinetic_energy_peak"].get<double>(), whole["kinetic_energy_peak"].get<double>());
+}
+
+TEST(StopAtRest, ItsKeysAreChecked) {
+  const TemporaryDirectory dir("gb_stop_at_rest_keys");
+  for (const auto& [rest, expected] :
+       {std::pair{R"(, "stop_at_rest": {"kinetic_energy_fraction": 1.5})", "stop_at_rest/kinetic_energy_fraction"},
+        std::pair{R"(, "stop_at_rest": {"fraction": 0.001})", "stop_at_rest/fraction: unknown key"},
+        std::pair{R"(, "stop_at_rest": {"kinetic_energy_fraction": 0.001, "not_before": -1})", "not_before"}}) {
+    try {
+      io::load_scene(dir.write("bad.json", block_scene(kEnd, rest)));
+      ADD_FAILURE() << "accepted " << rest;
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
