@@ -5,10 +5,11 @@ import json
 
 from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
 
-from plotting import scenes  # noqa: E402  (workflow_test_util puts workflows/ on the path)
+from plotting import scenes, vtu  # noqa: E402  (workflow_test_util puts workflows/ on the path)
 
 FIGURES = ["velocity.png", "strain_rate_damage.png", "source.png", "front_height.png", "hit_rate.png",
-           "tracked_damage.png", "run_audit_error_vs_time.png", "run_audit_histogram.png"]
+           "spreading.png", "deposit.png", "tracked_damage.png", "run_audit_error_vs_time.png",
+           "run_audit_histogram.png"]
 
 
 class DemoTest(WorkflowTest):
@@ -36,7 +37,10 @@ class DemoTest(WorkflowTest):
         self.assertGreaterEqual(report["library"]["paths"], 2)
         self.assertTrue(0 <= report["hit_rate_of_lookups"] <= 1)
         self.assertEqual(report["law"], "surrogate")
-        self.assertEqual(sorted(report["figures"]), sorted(figures))
+        self.assertEqual(sorted(report["figures"]), sorted(figures + ["spreading.json"]))
+        spreading = self.assert_json_fields(self.out / "figures" / "spreading.json",
+                                            ["final", "kinetic_energy_peak", "kinetic_energy_over_peak", "rows"])
+        self.assertEqual(len(spreading["rows"]), len(vtu.read_run(self.out / "run")))
         self.assertIn("seed Eq. 5", (self.out / "report.txt").read_text())
         # The audit re-ran the scene's 2 audited points live at each of the 30 steps.
         audit = self.assert_json_fields(self.out / "run" / "audit" / "run_audit.json",

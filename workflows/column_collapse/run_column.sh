@@ -3,7 +3,8 @@
 # then collapsing when both gates are removed at t = 0.5 s. README, "The paper's column collapse".
 # Usage: run_column.sh [OUT]   (default: $GRAINBANK_OUT/column, i.e. build/out/column)
 # Environment: LAW = live (the paper's method, default) | hybrid | cache; END = end time [s] (default:
-#   the scene's 2.5 s); PPC = material points per grid cell and direction (default: the scene's 2);
+#   the scene's 4 s, unless the column comes to rest before: kinetic energy below 1e-3 of its peak
+#   after t = 0.6 s, time.stop_at_rest); PPC = material points per grid cell and direction (default: the scene's 2);
 #   workflows/env.sh (GRAINBANK_BUILD_DIR, GRAINBANK_OUT, THREADS).
 # hybrid and cache first build OUT/lib from paths.json (skipped when already sampled).
 # A run stopped by Ctrl-C or SIGTERM has written its restart, and a killed one its last checkpoint (every
