@@ -10,8 +10,6 @@
 
 #include <nanoflann.hpp>
 
-#include "database/surrogate/mirror_symmetry.hpp"
-
 namespace grainbank::surrogate {
 
 namespace {
@@ -105,9 +103,11 @@ Prediction SurrogateIndex::predict_without(const FeatureVector& features, const 
   return answer(features, leave_out);
 }
 
-Prediction SurrogateIndex::nearest_fit(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const {
+Prediction SurrogateIndex::answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const {
   FeatureVector z;
   for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = features[j] / scales_[j];
+  { const std::lock_guard gate(turnstile_); }
+  const std::shared_lock lock(mutex_);
   FilteredNearest nearest(options_.k, tree_->samples, leave_out);
   if (!tree_->samples.empty()) tree_->index.findNeighbors(nearest, z.data(), nanoflann::SearchParams());
 
@@ -123,32 +123,6 @@ Prediction SurrogateIndex::nearest_fit(const FeatureVector& features, const std:
   p.neighbours = neighbours.size();
   p.distance = neighbours.empty() ? std::numeric_limits<double>::infinity() : neighbours.front().distance;
   if (!neighbours.empty()) p.nearest = tree_->samples[nearest.items().front().second].origin;
-  return p;
-}
-
-Prediction SurrogateIndex::answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const {
-  { const std::lock_guard gate(turnstile_); }
-  const std::shared_lock lock(mutex_);
-  const Prediction direct = nearest_fit(features, leave_out);
-  const FeatureVector reflected_features = mirrored(features);
-  // On the mirror plane the reflected state is the state itself: one fit serves both.
-  const Prediction reflected = reflected_features == features ? direct : nearest_fit(reflected_features, leave_out);
-
-  // ŷ = ½ (f(q) + M f(Sq)); each fit is off the symmetric answer by half their difference.
-  Prediction p = reflected.distance < direct.distance ? reflected : direct;
-  const Answer image = mirrored(reflected.fit.answer);
-  Answer half_difference{};
-  for (std::size_t j = 0; j < kAnswerSize; ++j) {
-    p.fit.answer[j] = 0.5 * (direct.fit.answer[j] + image[j]);
-    half_difference[j] = 0.5 * (direct.fit.answer[j] - image[j]);
-    p.fit.error[j] = std::sqrt(0.5 * (direct.fit.error[j] * direct.fit.error[j] +
-                                      reflected.fit.error[j] * reflected.fit.error[j]) +
-                               half_difference[j] * half_difference[j]);
-  }
-  const double asymmetry = stress_norm(half_difference);
-  p.fit.stress_error = std::sqrt(0.5 * (direct.fit.stress_error * direct.fit.stress_error +
-                                        reflected.fit.stress_error * reflected.fit.stress_error) +
-                                 asymmetry * asymmetry);
   return p;
 }
 

@@ -5,10 +5,6 @@
 // - predict() answers from the k samples nearest in scaled feature space (Euclidean distance of
 //   feature differences divided by the per-feature length scales; nanoflann kd-tree, exact) with
 //   local_fit.hpp: the predicted normalized answer and its estimated error.
-// - Answers are mirror-symmetric (mirror_symmetry.hpp): the prediction is the mean of the fit at the
-//   query and the reflected fit at the reflected query, so Â_xy vanishes on the mirror plane
-//   whatever the samples; the error adds half their difference to the fits' own estimates (in
-//   quadrature), and `distance`, `nearest` are those of the nearer of the two.
 // - predict_without() does the same as if the samples of one path (or one sample) were not in the
 //   index: the leave-one-out predictions that fit the length scales (length_scales.hpp) and test
 //   the error estimate.
@@ -74,8 +70,6 @@ class SurrogateIndex {
  private:
   struct Tree;
   Prediction answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const;
-  // The local fit of the k nearest samples, without the symmetry; the caller holds mutex_.
-  Prediction nearest_fit(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const;
 
   FeatureConstants constants_;
   LengthScales scales_;
