@@ -9,6 +9,8 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
+#include <string>
 
 #include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/io/audit_trail.hpp"
@@ -63,6 +65,37 @@ io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file) {
     throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by the command line: " +
                              file.string() + ")");
   }
+}
+
+// What set a step below time.min_time_step, and what to change.
+std::string time_step_collapse(const Solver& solver, double stable, double floor) {
+  std::ostringstream msg;
+  msg << "the time step fell to " << stable << " s at t = " << solver.time() << " s (step " << solver.steps()
+      << "), below time.min_time_step = " << floor << " s: ";
+  const TimeStepLimits limits = solver.time_step_limits();
+  if (limits.law <= limits.minimum()) {
+    const std::vector<MaterialPoint>& points = solver.points();
+    std::size_t worst = 0;
+    double worst_limit = std::numeric_limits<double>::infinity();
+    for (std::size_t p = 0; p < points.size(); ++p) {
+      const double limit = solver.law(points[p].law).time_step_limit(points[p].slot, points[p].deformation_gradient,
+                                                                     points[p].velocity_gradient);
+      if (limit < worst_limit) worst = p, worst_limit = limit;
+    }
+    const MaterialPoint& mp = points[worst];
+    msg << "it is set by seed Eq. 4 (q_h d_min / |dh/dt|, the law's own limit) of material point " << mp.id << " (law "
+        << solver.law(mp.law).name() << ") at (" << mp.position.x() << ", " << mp.position.y() << "), |L| = "
+        << mp.velocity_gradient.norm() << " 1/s, det F = " << mp.deformation_gradient.determinant()
+        << "; a DEM cell stretched far beyond its template (a fragment in free flight) or deformed very fast sets "
+           "it: raise the material's q_h, or lower time.min_time_step to go on at this step";
+  } else if (limits.wave <= limits.minimum()) {
+    msg << "it is set by the CFL criterion (a point's wave speed plus its speed over the grid cell): look for a point "
+           "whose density m/V has collapsed (an expanded, stress-free point) or whose speed is not physical";
+  } else {
+    msg << "it is set by the obstacles' contact springs (contact_factor sqrt(m_min / k_n)): lower the obstacles' k_n "
+           "or look for a point whose mass is tiny";
+  }
+  return msg.str();
 }
 
 }  // namespace
@@ -127,7 +160,13 @@ nlohmann::json run_scene(const RunOptions& options) {
   while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !stop_requested()) {
     // Land exactly on the next output, row or end time.
     const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
-    const double dt = std::min(solver.stable_time_step(), horizon - solver.time());
+    const double stable = solver.stable_time_step();
+    if (stable < scene.min_time_step) {
+      io::write_restart(restart, solver, run_record);
+      throw std::runtime_error(time_step_collapse(solver, stable, scene.min_time_step) + "; restart written to " +
+                               restart.string());
+    }
+    const double dt = std::min(stable, horizon - solver.time());
     solver.step(dt);
     if (audit_trail) audit_trail->record(solver, dt);
     dt_min = std::min(dt_min, dt), dt_max = std::max(dt_max, dt);

@@ -147,8 +147,9 @@ Scene load_scene(const std::filesystem::path& file) {
 
   Scene scene;
   const JsonNode time = root.at("time", "an object with end and output_interval");
-  time.allow_only({"end", "output_interval", "series_interval", "max_time_step", "cfl", "contact_factor",
-                   "stop_at_rest"});
+  time.allow_only({"end", "output_interval", "series_interval", "max_time_step", "min_time_step", "cfl",
+                   "contact_factor", "stop_at_rest"});
+
   scene.end_time = time.number("end", Range::positive());
   if (const auto rest = time.find("stop_at_rest")) {
     rest->allow_only({"kinetic_energy_fraction", "not_before"});
@@ -160,6 +161,7 @@ Scene load_scene(const std::filesystem::path& file) {
 
   SolverSettings settings;
   settings.max_time_step = time.number_or("max_time_step", kInfinity, Range::positive());
+  scene.min_time_step = time.number_or("min_time_step", 0.0, Range::between(0, settings.max_time_step, true, true));
   settings.time_step.cfl = time.number_or("cfl", settings.time_step.cfl, Range::between(0, 1, true, false));
   settings.time_step.contact = time.number_or("contact_factor", settings.time_step.contact, Range::between(0, 1, true, false));
   if (const auto integration = root.find("integration")) {
