@@ -33,6 +33,7 @@ void SeriesCsv::write(const Solver& solver, double last_dt) {
   out_ << ',' << c.hits << ',' << c.misses << ',' << c.live << ',' << c.hit_rate() << ',' << c.mean_estimated_error << ','
        << total.went_live << ',' << total.warm_start_seconds << ',' << solver.skipped_updates() << ','
        << total.retilings << ',' << total.regenerations << '\n';
+  out_.flush();  // rows reach the disk as they come: a long run can be watched, and a killed one keeps them
 }
 
 TrackedCsv::TrackedCsv(const std::filesystem::path& file, std::vector<std::uint32_t> ids)
@@ -50,6 +51,7 @@ void TrackedCsv::write(const Solver& solver) {
          << deviatoric_strain_rate(mp.velocity_gradient) << ',' << solver.law(mp.law).damage(mp.slot) << ','
          << mp.mass / mp.volume << '\n';
   }
+  out_.flush();
 }
 
 }  // namespace grainbank::mpm::io

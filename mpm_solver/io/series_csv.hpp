@@ -1,5 +1,5 @@
 // CSV outputs of a run: the time series of global measures and the history of tracked points.
-// Full precision, one header line, comma-separated.
+// Full precision, one header line, comma-separated; every write() is on disk when it returns.
 #pragma once
 #include <cstdint>
 #include <filesystem>
