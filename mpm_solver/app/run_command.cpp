@@ -12,7 +12,6 @@
 #include <sstream>
 #include <string>
 
-#include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/io/audit_trail.hpp"
 #include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
@@ -74,15 +73,7 @@ std::string time_step_collapse(const Solver& solver, double stable, double floor
       << "), below time.min_time_step = " << floor << " s: ";
   const TimeStepLimits limits = solver.time_step_limits();
   if (limits.law <= limits.minimum()) {
-    const std::vector<MaterialPoint>& points = solver.points();
-    std::size_t worst = 0;
-    double worst_limit = std::numeric_limits<double>::infinity();
-    for (std::size_t p = 0; p < points.size(); ++p) {
-      const double limit = solver.law(points[p].law).time_step_limit(points[p].slot, points[p].deformation_gradient,
-                                                                     points[p].velocity_gradient);
-      if (limit < worst_limit) worst = p, worst_limit = limit;
-    }
-    const MaterialPoint& mp = points[worst];
+    const MaterialPoint& mp = solver.law_limiting_point();
     msg << "it is set by seed Eq. 4 (q_h d_min / |dh/dt|, the law's own limit) of material point " << mp.id << " (law "
         << solver.law(mp.law).name() << ") at (" << mp.position.x() << ", " << mp.position.y() << "), |L| = "
         << mp.velocity_gradient.norm() << " 1/s, det F = " << mp.deformation_gradient.determinant()
@@ -139,9 +130,8 @@ nlohmann::json run_scene(const RunOptions& options) {
   };
   bool at_rest = false;
   const auto record = [&](double dt) {
-    series.write(solver, dt);
+    const double energy = series.write(solver, dt).kinetic_energy;
     if (tracked) tracked->write(solver);
-    const double energy = measure_flow(solver.points()).kinetic_energy;
     run_record.kinetic_energy_peak = std::max(run_record.kinetic_energy_peak, energy);
     if (const auto& rest = scene.stop_at_rest)
       at_rest = solver.time() >= rest->not_before * (1 - 1e-12) &&

@@ -94,6 +94,10 @@ TimeStepLimits Solver::time_step_limits() const {
 
 double Solver::stable_time_step() const { return std::min(time_step_limits().minimum(), settings_.max_time_step); }
 
+const MaterialPoint& Solver::law_limiting_point() const {
+  return points_[mpm::law_limiting_point(points_, laws_)];
+}
+
 // One MUSL step, top to bottom (seed §2.1).
 void Solver::finish() {
   for (const std::unique_ptr<ConstitutiveLaw>& law : laws_) law->finish();

@@ -53,6 +53,8 @@ class Solver {
   // Criteria for the next step (their minimum, capped by max_time_step, is the step to take).
   TimeStepLimits time_step_limits() const;
   double stable_time_step() const;
+  // The point whose law sets TimeStepLimits::law (law_limiting_point); requires a point.
+  const MaterialPoint& law_limiting_point() const;
 
   // One MUSL step of length dt. Throws std::runtime_error (naming the point) when a point leaves
   // the grid, penetrates an obstacle too deeply (naming the obstacle) or its law fails; the solver

@@ -6,6 +6,14 @@
 
 namespace grainbank::mpm {
 
+namespace {
+
+double law_limit_of(const MaterialPoint& mp, const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws) {
+  return laws[mp.law]->time_step_limit(mp.slot, mp.deformation_gradient, mp.velocity_gradient);
+}
+
+}  // namespace
+
 TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPoint>& points,
                                   const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws,
                                   const std::vector<Obstacle>& obstacles, double time, const TimeStepFactors& factors) {
@@ -20,7 +28,7 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
     const double density = mp.mass / mp.volume;
     max_signal = std::max(max_signal, std::sqrt(law.p_wave_modulus(mp.slot) / density) + mp.velocity.norm());
     min_mass = std::min(min_mass, mp.mass);
-    law_limit = std::min(law_limit, law.time_step_limit(mp.slot, mp.deformation_gradient, mp.velocity_gradient));
+    law_limit = std::min(law_limit, law_limit_of(mp, laws));
   }
   TimeStepLimits limits;
   if (max_signal > 0) limits.wave = factors.cfl * grid.cell_size() / max_signal;
@@ -30,6 +38,14 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
     if (o.active(time)) k_max = std::max({k_max, o.contact().k_n, o.contact().k_t});
   if (k_max > 0 && n > 0) limits.contact = factors.contact * std::sqrt(min_mass / k_max);
   return limits;
+}
+
+std::size_t law_limiting_point(const std::vector<MaterialPoint>& points,
+                               const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws) {
+  const auto worst = std::min_element(points.begin(), points.end(), [&](const MaterialPoint& a, const MaterialPoint& b) {
+    return law_limit_of(a, laws) < law_limit_of(b, laws);
+  });
+  return static_cast<std::size_t>(worst - points.begin());
 }
 
 }  // namespace grainbank::mpm

@@ -31,4 +31,9 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
                                   const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws,
                                   const std::vector<Obstacle>& obstacles, double time, const TimeStepFactors& factors);
 
+// Index of the point whose law limits the step most (the one behind TimeStepLimits::law), serially:
+// for messages, not for every step. Requires at least one point.
+std::size_t law_limiting_point(const std::vector<MaterialPoint>& points,
+                               const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws);
+
 }  // namespace grainbank::mpm

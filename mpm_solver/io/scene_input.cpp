@@ -149,7 +149,6 @@ Scene load_scene(const std::filesystem::path& file) {
   const JsonNode time = root.at("time", "an object with end and output_interval");
   time.allow_only({"end", "output_interval", "series_interval", "max_time_step", "min_time_step", "cfl",
                    "contact_factor", "stop_at_rest"});
-
   scene.end_time = time.number("end", Range::positive());
   if (const auto rest = time.find("stop_at_rest")) {
     rest->allow_only({"kinetic_energy_fraction", "not_before"});

@@ -23,7 +23,7 @@ SeriesCsv::SeriesCsv(const std::filesystem::path& file)
                         "hits,misses,live_cells,hit_rate,mean_estimated_error,went_live,warm_start_time,skipped_point_steps,"
                         "retilings,regenerations")) {}
 
-void SeriesCsv::write(const Solver& solver, double last_dt) {
+FlowMeasures SeriesCsv::write(const Solver& solver, double last_dt) {
   const FlowMeasures m = measure_flow(solver.points());
   const TimeStepLimits limits = solver.time_step_limits();
   out_ << solver.time() << ',' << last_dt << ',' << solver.steps() << ',' << m.kinetic_energy << ',' << m.front << ','
@@ -34,6 +34,7 @@ void SeriesCsv::write(const Solver& solver, double last_dt) {
        << total.went_live << ',' << total.warm_start_seconds << ',' << solver.skipped_updates() << ','
        << total.retilings << ',' << total.regenerations << '\n';
   out_.flush();  // rows reach the disk as they come: a long run can be watched, and a killed one keeps them
+  return m;
 }
 
 TrackedCsv::TrackedCsv(const std::filesystem::path& file, std::vector<std::uint32_t> ids)

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <vector>
 
+#include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/core/solver.hpp"
 
 namespace grainbank::mpm::io {
@@ -18,7 +19,8 @@ namespace grainbank::mpm::io {
 class SeriesCsv {
  public:
   explicit SeriesCsv(const std::filesystem::path& file);
-  void write(const Solver& solver, double last_dt);
+  // Returns the flow measures of the row (diagnostics.hpp), for callers that act on them.
+  FlowMeasures write(const Solver& solver, double last_dt);
 
  private:
   std::ofstream out_;

@@ -67,7 +67,8 @@ class FlowTest(WorkflowTest):
 class SpreadingTest(WorkflowTest):
     def test_a_rigid_translation_runs_out_on_one_side_and_back_on_the_other(self):
         snapshots = vtu.read_run(run_rigid_translation(self.out, speed=1.0, end=0.02))
-        first, last = spreading.spreading(snapshots)[0], spreading.spreading(snapshots)[-1]
+        rows = spreading.spreading(snapshots)
+        first, last = rows[0], rows[-1]
         self.assertAlmostEqual(last["runout_right"], 0.02, places=12)
         self.assertAlmostEqual(last["runout_left"], -0.02, places=12)
         self.assertAlmostEqual(last["centroid_shift"], 0.02, places=12)
@@ -75,7 +76,7 @@ class SpreadingTest(WorkflowTest):
         for corner in ("corner_left", "corner_right"):
             np.testing.assert_allclose(last[corner], np.array(first[corner]) + [0.02, 0.0], atol=1e-12)
         self.assertLess(first["corner_left"][0], first["corner_right"][0])
-        spreading.deposit_figure(snapshots, spreading.spreading(snapshots), self.out / "deposit.png")
+        spreading.deposit_figure(snapshots, rows, self.out / "deposit.png")
         self.assert_png(self.out / "deposit.png")
 
     def test_a_symmetric_spread_has_no_asymmetry_and_a_lopsided_one_has(self):

@@ -14,6 +14,12 @@ import numpy as np
 from . import figures, flow
 
 
+def column_edges(first):
+    """(left, right, axis): the column's initial edges and its axis midway [m], from the first snapshot."""
+    left, right = first.xy[:, 0].min(), first.xy[:, 0].max()
+    return left, right, 0.5 * (left + right)
+
+
 def top_corner_ids(first):
     """Ids of the points at the top-left and top-right corners of the first snapshot."""
     x, y = first.xy[:, 0], first.xy[:, 1]
@@ -29,8 +35,7 @@ def spreading(snapshots):
     (right − left over their mean; 0 when neither has moved), centroid_shift [m] (positive to the right)
     and height [m] (highest point), and the positions of the two top corners."""
     first = snapshots[0]
-    left0, right0 = first.xy[:, 0].min(), first.xy[:, 0].max()
-    axis = 0.5 * (left0 + right0)
+    left0, right0, axis = column_edges(first)
     corners = top_corner_ids(first)
     rows = []
     for s in snapshots:
@@ -58,8 +63,7 @@ def deposit_figure(snapshots, rows, out):
     """The last snapshot's free surface, its mirror image about the column's axis, the initial column
     and the paths of its two top corners."""
     first, last = snapshots[0], snapshots[-1]
-    left0, right0 = first.xy[:, 0].min(), first.xy[:, 0].max()
-    axis = 0.5 * (left0 + right0)
+    left0, right0, axis = column_edges(first)
     step = first.spacing()
     reach = max(axis - last.xy[:, 0].min(), last.xy[:, 0].max() - axis) + step
     bins = np.arange(axis - reach, axis + reach + step, step)
