@@ -77,8 +77,8 @@ std::string time_step_collapse(const Solver& solver, double stable, double floor
     msg << "it is set by seed Eq. 4 (q_h d_min / |dh/dt|, the law's own limit) of material point " << mp.id << " (law "
         << solver.law(mp.law).name() << ") at (" << mp.position.x() << ", " << mp.position.y() << "), |L| = "
         << mp.velocity_gradient.norm() << " 1/s, det F = " << mp.deformation_gradient.determinant()
-        << "; a DEM cell stretched far beyond its template (a fragment in free flight) or deformed very fast sets "
-           "it: raise the material's q_h, or lower time.min_time_step to go on at this step";
+        << "; a DEM cell whose grains still touch, stretched far beyond its template or deformed very fast, "
+           "sets it: raise the material's q_h, or lower time.min_time_step to go on at this step";
   } else if (limits.wave <= limits.minimum()) {
     msg << "it is set by the CFL criterion (a point's wave speed plus its speed over the grid cell): look for a point "
            "whose density m/V has collapsed (an expanded, stress-free point) or whose speed is not physical";

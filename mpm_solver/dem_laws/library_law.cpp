@@ -191,8 +191,7 @@ double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
 
 double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const {
   const Point& p = points_[slot];
-  // A cached point's cell would be the template deformed by its F.
-  return model_.time_step_limit(p.cell ? p.cell->cell_matrix() : embed_plane_strain(F) * model_.template_cell_matrix(), L);
+  return p.cell ? model_.time_step_limit(*p.cell, L) : model_.time_step_limit(F, L);
 }
 
 CouplingCounters LibraryLaw::counters() const {

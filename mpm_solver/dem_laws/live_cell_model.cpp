@@ -7,6 +7,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "dem_sampler/cell/periodic_cell.hpp"
 #include "dem_sampler/cell/regeneration.hpp"
 
 namespace grainbank::mpm {
@@ -31,6 +32,7 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
   for (double ri : r) solid_mass += material_.density * 4.0 / 3.0 * std::numbers::pi * ri * ri * ri;
   template_volume_ = cell_template.volume();
   template_volume_ratio_ = cell_template.deformation_gradient().determinant();
+  template_deformation_inverse_ = cell_template.deformation_gradient().inverse();
   density_ = solid_mass / template_volume_;
   mean_radius_ = std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
   min_diameter_ = 2 * *std::min_element(r.begin(), r.end());
@@ -70,7 +72,18 @@ double LiveCellModel::modulus(const dem::CellMeasures& m) const {
       .p_wave();
 }
 
-double LiveCellModel::time_step_limit(const dem::Mat3& h, const Mat2& L) const {
+double LiveCellModel::time_step_limit(const dem::DemCell& cell, const Mat2& L) const {
+  if (cell.interacting_pairs() == 0) return std::numeric_limits<double>::infinity();
+  return time_step_limit_of_deformed_template(cell.deformation_gradient() * template_deformation_inverse_, L);
+}
+
+double LiveCellModel::time_step_limit(const Mat2& F, const Mat2& L) const {
+  return time_step_limit_of_deformed_template(embed_plane_strain(F), L);
+}
+
+double LiveCellModel::time_step_limit_of_deformed_template(const dem::Mat3& F, const Mat2& L) const {
+  dem::Mat3 h = F * template_state_.h;
+  dem::reduce_basis(h);
   // |ḣ|_sup is the largest component of the cell-vector velocities.
   dem::Mat3 L3 = dem::Mat3::Zero();
   L3.topLeftCorner<2, 2>() = L;

@@ -42,7 +42,6 @@ class LiveCellModel {
   // Density of the cell (spheres and voids) and its volume at the template state.
   double density() const { return density_; }
   double template_volume() const { return template_volume_; }
-  const dem::Mat3& template_cell_matrix() const { return template_state_.h; }
   std::size_t template_size() const { return template_state_.radius.size(); }
 
   // A deep copy of the template, or a cell continuing from `state` (the point owns it); both re-tile
@@ -68,10 +67,19 @@ class LiveCellModel {
   // The cell's P-wave modulus M = K + 4G/3 for the CFL condition, from its current coordination and
   // solid fraction (voigt_moduli with the full normal stiffness k_n of a bonded contact).
   double modulus(const dem::CellMeasures& m) const;
-  // Seed Eq. 4 for a cell of matrix h at velocity gradient L: ḣ = L h moves by ≤ Q_h d_min per step.
-  double time_step_limit(const dem::Mat3& h, const Mat2& L) const;
+  // Seed Eq. 4 at velocity gradient L: the walls of the cell, moving at ḣ = L h, move by at most
+  // Q_h d_min per MPM step. The walls are those of the seed's cell, the template deformed by F and
+  // lattice-reduced: re-tiling and basis flips change how a packing is described, not how fast it
+  // deforms, so they must not shrink the step (a doubled cell vector moves twice as fast).
+  // A held cell with no contact and no bond (grains in free flight) has nothing whose deformation
+  // the step must resolve, and sets no limit.
+  double time_step_limit(const dem::DemCell& cell, const Mat2& L) const;
+  // The same for a point that holds no cell, at in-plane deformation F since the template.
+  double time_step_limit(const Mat2& F, const Mat2& L) const;
 
  private:
+  // Eq. 4 for the template deformed by F (3D, since the template).
+  double time_step_limit_of_deformed_template(const dem::Mat3& F, const Mat2& L) const;
   dem::DemCell with_cap(dem::DemCell cell) const {
     cell.set_retiling_cap(settings_.max_spheres);
     return cell;
@@ -82,6 +90,7 @@ class LiveCellModel {
   double skin_;
   LiveDemSettings settings_;
   double density_, mean_radius_, min_diameter_, template_volume_, template_volume_ratio_;
+  dem::Mat3 template_deformation_inverse_;  // F of the template cell, inverted
 };
 
 }  // namespace grainbank::mpm

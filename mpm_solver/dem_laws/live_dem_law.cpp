@@ -70,7 +70,7 @@ double LiveDemLaw::volume_ratio(std::size_t slot, const Mat2&) const {
 }
 
 double LiveDemLaw::time_step_limit(std::size_t slot, const Mat2&, const Mat2& L) const {
-  return model_.time_step_limit(cells_[slot].cell_matrix(), L);
+  return model_.time_step_limit(cells_[slot], L);
 }
 
 namespace {

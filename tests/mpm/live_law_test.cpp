@@ -1,12 +1,14 @@
 // The live MPM×DEM law: points of a homogeneously sheared block each drive their own DEM cell; the
 // stress, σ_zz and volume of a point equal those of a stand-alone dem::DemCell (a copy of the same
 // template) driven by the same increments, embedded in 3D as plane strain, to round-off. Also:
-// every point owns a distinct cell, and seed Eq. 4 limits the step.
+// every point owns a distinct cell, and seed Eq. 4 limits the step, seeing the packing (not how
+// re-tiling and flips describe it) and only while its grains touch.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/retiling.hpp"
 #include "dem_sampler/cell/snow_preset.hpp"
 #include "mpm_solver/dem_laws/dem_material_input.hpp"
 #include "mpm_solver/dem_laws/live_dem_law.hpp"
@@ -82,6 +84,64 @@ TEST(LiveLaw, SeedEquation4LimitsTheStep) {
   EXPECT_NEAR(law.time_step_limit(0, Mat2::Identity(), L), 0.02 * d_min / rate, 1e-15);
   EXPECT_TRUE(std::isinf(law.time_step_limit(0, Mat2::Identity(), Mat2::Zero())));
   EXPECT_GT(law.p_wave_modulus(0), 0);
+}
+
+// Re-tiling and basis flips describe the same packing differently; seed Eq. 4 must see the packing.
+TEST(LiveLaw, SeedEquation4IsBlindToRetilingAndFlips) {
+  const dem::DemCell cell_template = small_cohesive_cell();
+  const dem::Mat3 h0 = cell_template.cell_matrix();
+  ASSERT_TRUE(h0.isDiagonal()) << "the flip check below assumes an orthorhombic template";
+  LiveDemSettings settings;
+  settings.q_h = 0.02;
+  const LiveCellModel model(cell_template, settings);
+  dem::DemCell cell = model.new_cell();
+  cell.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);  // measures its contacts
+  Mat2 L;
+  L << 0, 3, 0, 0;  // simple shear: the x row of ḣ = L h is 3 h_yj
+  const double limit = model.time_step_limit(cell, L);
+  double d_min = 1;
+  for (double r : cell_template.radii()) d_min = std::min(d_min, 2 * r);
+  EXPECT_NEAR(limit, 0.02 * d_min / (3 * h0.row(1).cwiseAbs().maxCoeff()), 1e-12 * limit);
+
+  // Doubled along y, the cell's own x-velocity doubles; the packing deforms no faster.
+  const dem::DemCell doubled = model.cell_from(dem::doubled_along(cell.state(), 1));
+  ASSERT_EQ(doubled.size(), 2 * cell.size());
+  EXPECT_NEAR(doubled.cell_matrix().row(1).cwiseAbs().maxCoeff(), 2 * h0.row(1).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(model.time_step_limit(doubled, L), limit, 1e-12 * limit);
+
+  // A point without a cell: the template deformed by F. Sheared by γ = 5, the lattice is the
+  // template's again (a flip undoes an integer shear of an orthorhombic cell), while the x row of
+  // the unflipped cell F h0, read by L' = (v_y = 3 x), would reach 5 h0_yy.
+  Mat2 sheared, L_prime;
+  sheared << 1, 5, 0, 1;
+  L_prime << 0, 0, 3, 0;
+  EXPECT_NEAR(model.time_step_limit(Mat2::Identity(), L), limit, 1e-12 * limit);
+  const double unsheared = model.time_step_limit(Mat2::Identity(), L_prime);
+  EXPECT_NEAR(model.time_step_limit(sheared, L_prime), unsheared, 1e-12 * unsheared);
+  EXPECT_NEAR(unsheared, 0.02 * d_min / (3 * h0(0, 0)), 1e-12 * unsheared);
+  ASSERT_GT(5 * h0(1, 1), h0(0, 0)) << "else the unflipped cell would be no faster";
+}
+
+// A cell whose grains all fly apart has no contact or bond for the step to resolve.
+TEST(LiveLaw, SeedEquation4SetsNoLimitOnACellInFreeFlight) {
+  const dem::DemCell cell_template = small_cohesive_cell();
+  const LiveCellModel model(cell_template, LiveDemSettings{});
+  dem::CellState spread = cell_template.state();
+  spread.h *= 3;  // same reduced positions: every gap triples, F = 3 I
+  for (dem::Bond& b : spread.bonds) b.intact = false;
+  dem::DemCell flying = model.cell_from(spread);
+  flying.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);
+  ASSERT_EQ(flying.contact_count(), 0u);
+  Mat2 L;
+  L << 50, 0, 0, 50;
+  EXPECT_EQ(flying.interacting_pairs(), 0);
+  EXPECT_TRUE(std::isinf(model.time_step_limit(flying, L)));
+  // The same deformation with grains in contact is limited.
+  EXPECT_TRUE(std::isfinite(model.time_step_limit(3 * Mat2::Identity(), L)));
+  dem::DemCell touching = model.new_cell();
+  touching.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);
+  EXPECT_GT(touching.interacting_pairs(), 0);
+  EXPECT_TRUE(std::isfinite(model.time_step_limit(touching, L)));
 }
 
 TEST(LiveLaw, RetilingCapIsReadAndBadKeysAreNamed) {
