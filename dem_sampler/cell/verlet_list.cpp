@@ -22,7 +22,16 @@ void VerletListBuilder::build(const Mat3& h, const std::vector<Vec3>& s, const s
   }
   Eigen::Vector3i bins;
   for (int a = 0; a < 3; ++a) bins[a] = std::max(2, static_cast<int>(std::floor(width[a] / cutoff)));
-  const std::size_t n = s.size(), nbins = static_cast<std::size_t>(bins.prod());
+  const std::size_t n = s.size();
+  // A cell stretched far beyond its packing (grains flying apart) would need bins by the million,
+  // allocated and cleared at every rebuild; wider bins still hold every pair in neighbouring bins.
+  const std::size_t max_bins = std::max<std::size_t>(27, 2 * n);
+  while (static_cast<std::size_t>(bins.prod()) > max_bins) {
+    int widest = 0;
+    bins.maxCoeff(&widest);
+    bins[widest] = std::max(2, bins[widest] / 2);
+  }
+  const std::size_t nbins = static_cast<std::size_t>(bins.prod());
 
   auto bin_coord = [&](const Vec3& si) {
     Eigen::Vector3i b;
