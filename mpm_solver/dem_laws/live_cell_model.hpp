@@ -55,7 +55,14 @@ class LiveCellModel {
   // (plane_stress_of gives the MPM's part of it). A cell due to re-tile beyond the cap is first
   // regenerated from the template (dem_sampler/cell/regeneration.hpp) when the settings say so.
   // Counts the cell's re-tilings and regenerations into `counters`.
+  //
+  // A dispersed cell (no contact, no bond, more than kDispersedVolumeRatio times the template's
+  // volume: grains that flew apart, carrying no stress) takes no dilating increment (det F_inc > 1);
+  // it holds as it is, and so does the volume of its point, until the point is compressed. Without
+  // this, a fragment whose affine velocity APIC keeps alive (an isolated point keeps its B_p, so its
+  // L never decays as a ballistic cloud's does) stretches its cell exponentially, to kilometres.
   dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment, CouplingCounters& counters) const;
+  static constexpr double kDispersedVolumeRatio = 100;
   // Counts the doublings of a cell that had `spheres_before` spheres into `counters` (for cells
   // driven other than by advance, e.g. a warm start's drive_to).
   static void count_retilings(std::size_t spheres_before, const dem::DemCell& cell, CouplingCounters& counters);

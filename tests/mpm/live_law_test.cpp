@@ -144,6 +144,41 @@ TEST(LiveLaw, SeedEquation4SetsNoLimitOnACellInFreeFlight) {
   EXPECT_TRUE(std::isfinite(model.time_step_limit(touching, L)));
 }
 
+// A cell whose grains flew apart far beyond its packing holds while its point dilates, and follows
+// again when the point is compressed; a cell not yet that dilute follows every increment.
+TEST(LiveLaw, ADispersedCellTakesNoDilation) {
+  const dem::DemCell cell_template = small_cohesive_cell();
+  LiveDemSettings settings;
+  settings.substepping = {0.1, 1, 0.2};
+  const LiveCellModel model(cell_template, settings);
+  const auto spread_by = [&](double stretch) {
+    dem::CellState spread = cell_template.state();
+    spread.h.topRows<2>() *= stretch;  // in-plane, same reduced positions: F grows by stretch²
+    for (dem::Bond& b : spread.bonds) b.intact = false;
+    dem::DemCell cell = model.cell_from(spread);
+    cell.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);
+    return cell;
+  };
+  const auto increment = [](double stretch) {
+    return KinematicIncrement::of_deformation(stretch * Mat2::Identity(), 1e-4);
+  };
+  CouplingCounters counters;
+  dem::DemCell dispersed = spread_by(12);
+  ASSERT_EQ(dispersed.interacting_pairs(), 0);
+  ASSERT_NEAR(model.volume_ratio(dispersed), 144, 1e-9);
+  const dem::Mat3 h = dispersed.cell_matrix();
+  const dem::Mat3 stress = model.advance(dispersed, increment(1.1), counters);
+  EXPECT_EQ(stress, dem::Mat3::Zero());
+  EXPECT_EQ(dispersed.cell_matrix(), h) << "a dilating increment must leave the dispersed cell as it is";
+  model.advance(dispersed, increment(0.9), counters);
+  EXPECT_NEAR(model.volume_ratio(dispersed), 144 * 0.81, 1e-9) << "compression is followed";
+
+  dem::DemCell dilute = spread_by(3);
+  ASSERT_EQ(dilute.interacting_pairs(), 0);
+  model.advance(dilute, increment(1.1), counters);
+  EXPECT_NEAR(model.volume_ratio(dilute), 9 * 1.21, 1e-9) << "below the threshold every increment is followed";
+}
+
 TEST(LiveLaw, RetilingCapIsReadAndBadKeysAreNamed) {
   const nlohmann::json material = {{"retiling", {{"max_spheres", 240}}}};
   EXPECT_EQ(read_live_settings(common::JsonNode(material, "scene.json", "/materials/0")).max_spheres, 240u);
