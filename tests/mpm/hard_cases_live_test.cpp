@@ -115,13 +115,18 @@ TEST(HardCasesLive, PastTheCapTheFlattenedCellIsRegeneratedAndTheMaterialGoesOn)
   std::vector<double> change;
   std::vector<Mat2> stress{solver.points()[0].stress.in_plane};
   std::vector<std::size_t> regenerated_at;
+  std::vector<bool> converged;  // per regeneration: did the servo reach the worn cell's stress
   ASSERT_NO_THROW(testing::run_until(solver, 0.1, [&](const Solver& s) {
     const Mat2& now = s.points()[0].stress.in_plane;
     ASSERT_TRUE(now.allFinite()) << "step " << s.steps();
     ASSERT_LE(law.cell(0).size(), settings.max_spheres);
     change.push_back((now - stress.back()).cwiseAbs().maxCoeff());
     stress.push_back(now);
-    if (law.point_counters(0).regenerations > regenerated_at.size()) regenerated_at.push_back(change.size() - 1);
+    if (law.point_counters(0).regenerations > regenerated_at.size()) {
+      regenerated_at.push_back(change.size() - 1);
+      const std::uint64_t unconverged = std::count(converged.begin(), converged.end(), false);
+      converged.push_back(law.point_counters(0).regenerations_unconverged == unconverged);
+    }
   }));
   const CouplingCounters c = law.point_counters(0);
   std::printf("t = %g s: %llu re-tilings, %llu regenerations (%llu unconverged)\n", solver.time(),
@@ -134,13 +139,17 @@ TEST(HardCasesLive, PastTheCapTheFlattenedCellIsRegeneratedAndTheMaterialGoesOn)
   EXPECT_NEAR(law.cell(0).deformation_gradient()(1, 1), solver.points()[0].deformation_gradient(1, 1), 1e-9);
   // The new cell carries the worn one's stress: at a regeneration the point's stress moves by no more
   // than an ordinary step of the 20 before it plus the servo's tolerance (5 % of the stress scale).
-  for (std::size_t k : regenerated_at) {
+  // A servo that stops short (a fresh 30-sphere cell may not hold the flattened cell's anisotropic
+  // stress; regeneration.hpp leaves it where it stopped) promises less: the jump stays below half
+  // the stress scale, so the point goes on from a stress of the right size and sign.
+  for (std::size_t r = 0; r < regenerated_at.size(); ++r) {
+    const std::size_t k = regenerated_at[r];
     ASSERT_GE(k, 20u);
     const double ordinary = *std::max_element(change.begin() + static_cast<long>(k) - 20, change.begin() + static_cast<long>(k));
     const double scale = stress[k].cwiseAbs().maxCoeff();
-    std::printf("regeneration at step %zu: stress moved %.1f Pa; ordinary steps before it up to %.1f Pa, scale %.1f Pa\n",
-                k + 1, change[k], ordinary, scale);
-    EXPECT_LE(change[k], ordinary + 0.05 * scale);
+    std::printf("regeneration at step %zu (%s): stress moved %.1f Pa; ordinary steps before it up to %.1f Pa, scale %.1f Pa\n",
+                k + 1, converged[r] ? "converged" : "servo stopped short", change[k], ordinary, scale);
+    EXPECT_LE(change[k], ordinary + (converged[r] ? 0.05 : 0.5) * scale);
   }
 }
 
