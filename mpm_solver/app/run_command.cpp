@@ -99,6 +99,11 @@ nlohmann::json run_scene(const RunOptions& options) {
   Solver& solver = *scene.solver;
   io::RunRecord run_record;
   if (!options.restart.empty()) run_record = io::read_restart(options.restart, solver);
+  if (scene.stop_at_rest && run_record.kinetic_energy_peak_since > 0)
+    std::fprintf(stderr,
+                 "mpm_solver: warning: %s carries no kinetic-energy peak from before t = %g s (an older build's "
+                 "restart, or one resumed from it): time.stop_at_rest compares with the peak from then on\n",
+                 options.restart.string().c_str(), run_record.kinetic_energy_peak_since);
   std::optional<io::AuditTrailRecorder> audit_trail;
   if (!scene.audited_points.empty())
     audit_trail.emplace(solver, scene.audited_points, std::filesystem::absolute(scene_file).string());
@@ -195,6 +200,7 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"interrupted", interrupted},
       {"at_rest", at_rest},
       {"kinetic_energy_peak", run_record.kinetic_energy_peak},
+      {"kinetic_energy_peak_since", run_record.kinetic_energy_peak_since},
       {"restart", restart.string()}};
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
   solver.finish();

@@ -77,6 +77,7 @@ void write_contents(const h5::Object& root, const Solver& solver, const RunRecor
   h5::write_attribute(root, "format", std::string(kFormat));
   h5::write_attribute(root, "time", solver.time());
   h5::write_attribute(root, "kinetic_energy_peak", run.kinetic_energy_peak);
+  h5::write_attribute(root, "kinetic_energy_peak_since", run.kinetic_energy_peak_since);
   h5::write_attribute(root, "steps", static_cast<std::int64_t>(solver.steps()));
   std::vector<double> rows;
   for (const MaterialPoint& mp : solver.points()) append_row(rows, mp);
@@ -147,6 +148,12 @@ RunRecord read_restart(const std::filesystem::path& file, Solver& solver) {
   try {
     run.kinetic_energy_peak = h5::read_double_attribute(root, "kinetic_energy_peak");
   } catch (const db::StoreError&) {  // a file of an older build: the resumed run's peak starts afresh
+    run.kinetic_energy_peak_since = solver.time();
+    return run;
+  }
+  try {
+    run.kinetic_energy_peak_since = h5::read_double_attribute(root, "kinetic_energy_peak_since");
+  } catch (const db::StoreError&) {  // written by a build that counted every peak from the start
   }
   return run;
 }

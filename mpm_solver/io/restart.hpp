@@ -2,7 +2,7 @@
 // point, the obstacles' tangential contact history, the full state of every live DEM cell and what
 // the points of cache/hybrid laws carry (damage, steps inside the tolerance, replay history) — so
 // that a solver built from the same scene and restored continues exactly like the uninterrupted run.
-// Layout: attributes format (kRestartFormat), time, steps, kinetic_energy_peak; dataset points (one row per point, see restart.cpp); dataset
+// Layout: attributes format (kRestartFormat), time, steps, kinetic_energy_peak, kinetic_energy_peak_since; dataset points (one row per point, see restart.cpp); dataset
 // obstacle_tangential (obstacles × points); group law_<i>_cell_<slot> per live cell (as in the
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.
@@ -23,9 +23,11 @@ inline constexpr const char* kRestartFormat = "grainbank-restart-3";
 inline constexpr std::size_t kRestartPointColumns = 33;
 
 // What the run itself has seen, beyond the solver's state: kept so that a resumed run judges as the
-// uninterrupted one would (attribute kinetic_energy_peak; absent in files of older builds: 0).
+// uninterrupted one would (attributes kinetic_energy_peak and kinetic_energy_peak_since). A file of
+// an older build has no peak: the resumed run counts its peak from the resumed time, and says so.
 struct RunRecord {
-  double kinetic_energy_peak = 0;  // the largest kinetic energy of any series row so far [J/m]
+  double kinetic_energy_peak = 0;        // the largest kinetic energy of any series row so far [J/m]
+  double kinetic_energy_peak_since = 0;  // the time from which that peak was counted [s]
 };
 
 void write_restart(const std::filesystem::path& file, const Solver& solver, const RunRecord& run = {});

@@ -2,7 +2,8 @@
 // The case: an elastic block launched at v0 along a horizontal line with Coulomb friction μ. It
 // slides to rest at t_s = v0 / (μ g), its kinetic energy ½ M (v0 − μ g t)² falling below a fraction f
 // of its initial value only after t = (1 − √f) t_s; a resumed run keeps the peak of the run it
-// resumes and stops where the uninterrupted one does.
+// resumes and stops where the uninterrupted one does; one resumed from a restart file that kept no
+// peak (an older build's) counts its peak from the resumed time and says so in its summary.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 
 #include "common/json_input.hpp"
 #include "common/temporary_directory.hpp"
+#include "database/store/hdf5_handle.hpp"
 #include "mpm_solver/app/run_command.hpp"
 #include "mpm_solver/io/scene_input.hpp"
 
@@ -92,6 +94,26 @@ TEST(StopAtRest, AResumedRunKeepsThePeakAndStopsWhereTheUninterruptedRunStops) {
   EXPECT_TRUE(resumed["at_rest"].get<bool>());
   EXPECT_EQ(resumed["final_time"].get<double>(), whole["final_time"].get<double>());
   EXPECT_EQ(resumed["kinetic_energy_peak"].get<double>(), whole["kinetic_energy_peak"].get<double>());
+}
+
+TEST(StopAtRest, ARunResumedFromAFileWithoutAPeakCountsItsPeakFromTheResumedTime) {
+  const TemporaryDirectory dir("gb_stop_at_rest_no_peak");
+  const nlohmann::json whole = run(dir, "whole", block_scene(kEnd, kRest));
+  const nlohmann::json first = run(dir, "first", block_scene(0.1, kRest));
+  {  // as an older build wrote it
+    const db::h5::Object root = db::h5::open_file(dir.path() / "first" / "restart.h5", true);
+    for (const char* name : {"kinetic_energy_peak", "kinetic_energy_peak_since"}) ASSERT_GE(H5Adelete(root.id(), name), 0);
+  }
+  const nlohmann::json resumed = run(dir, "resumed", block_scene(kEnd, kRest), dir.path() / "first" / "restart.h5");
+  EXPECT_EQ(whole["kinetic_energy_peak_since"].get<double>(), 0);
+  EXPECT_EQ(resumed["kinetic_energy_peak_since"].get<double>(), first["final_time"].get<double>());
+  // The block has slowed since launch, so the peak counted from t = 0.1 s is below the true one,
+  // and the rest criterion is met later.
+  EXPECT_LT(resumed["kinetic_energy_peak"].get<double>(), 0.9 * whole["kinetic_energy_peak"].get<double>());
+  EXPECT_GT(resumed["final_time"].get<double>(), whole["final_time"].get<double>());
+  // Resumed again from its own restart, the time the peak is counted from is kept.
+  const nlohmann::json again = run(dir, "again", block_scene(kEnd, ""), dir.path() / "resumed" / "restart.h5");
+  EXPECT_EQ(again["kinetic_energy_peak_since"].get<double>(), first["final_time"].get<double>());
 }
 
 TEST(StopAtRest, ItsKeysAreChecked) {
