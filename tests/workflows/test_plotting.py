@@ -96,6 +96,20 @@ class SpreadingTest(WorkflowTest):
         self.assertAlmostEqual(uneven["centroid_shift"], (2 * 3 - 4 * 1) / 6)  # two points +3, four −1
 
 
+    def test_a_point_thrown_ahead_sets_the_runout_but_not_the_deposit_edge(self):
+        xy = np.array([[x, y] for x in (1.0, 2.0, 3.0) for y in (0.0, 1.0)])
+        start = vtu.Snapshot(0.0, xy, {"id": np.arange(6)})
+        spread_x = 2 + 2 * (xy[:, 0] - 2)  # 0, 2, 4: gaps of 2 initial spacings, one deposit
+        spread = vtu.Snapshot(1.0, np.column_stack([spread_x, xy[:, 1]]), {"id": np.arange(6)})
+        thrown_x = spread_x.copy()
+        thrown_x[5] = 4 + 3.5  # the top right point 3.5 spacings beyond the rest
+        thrown = vtu.Snapshot(2.0, np.column_stack([thrown_x, xy[:, 1]]), {"id": np.arange(6)})
+        _, even, ahead = spreading.spreading([start, spread, thrown])
+        self.assertEqual((even["deposit_left"], even["deposit_right"], even["detached_points"]), (1.0, 1.0, 0))
+        self.assertEqual((ahead["runout_left"], ahead["runout_right"]), (1.0, 4.5))
+        self.assertEqual((ahead["deposit_left"], ahead["deposit_right"], ahead["detached_points"]), (1.0, 1.0, 1))
+
+
 class TablesTest(WorkflowTest):
     def test_csv_round_trip_and_errors(self):
         rows = [{"t": 0.0, "point": 1, "d": 0.5}, {"t": 0.0, "point": 2, "d": 0.25}, {"t": 1.0, "point": 1, "d": 0.75}]
