@@ -28,6 +28,7 @@ struct CouplingCounters {
   std::uint64_t retilings = 0;              // doublings of live cells (dem_sampler/cell/retiling.hpp)
   std::uint64_t regenerations = 0;          // live cells replaced past the re-tiling cap (cell/regeneration.hpp)
   std::uint64_t regenerations_unconverged = 0;  // of those, the ones whose servo missed the worn cell's stress
+  std::uint64_t dispersed_holds = 0;  // dilating increments a dispersed cell did not take (live_cell_model.hpp)
 
   CouplingCounters& operator+=(const CouplingCounters& o) {
     hits += o.hits, misses += o.misses, live_updates += o.live_updates, went_live += o.went_live;
@@ -36,6 +37,7 @@ struct CouplingCounters {
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;
     enriched_paths += o.enriched_paths, enriched_records += o.enriched_records, retilings += o.retilings;
     regenerations += o.regenerations, regenerations_unconverged += o.regenerations_unconverged;
+    dispersed_holds += o.dispersed_holds;
     return *this;
   }
   double hit_rate() const { return hits + misses ? double(hits) / double(hits + misses) : 0.0; }

@@ -40,8 +40,10 @@ LiveCellModel::LiveCellModel(const dem::DemCell& cell_template, LiveDemSettings 
 
 dem::Mat3 LiveCellModel::advance(dem::DemCell& cell, const KinematicIncrement& increment,
                                  CouplingCounters& counters) const {
-  if (cell.interacting_pairs() == 0 && volume_ratio(cell) > kDispersedVolumeRatio && increment.F.determinant() > 1)
+  if (cell.interacting_pairs() == 0 && volume_ratio(cell) > kDispersedVolumeRatio && increment.F.determinant() > 1) {
+    ++counters.dispersed_holds;
     return cell.stress();
+  }
   if (settings_.regenerate_beyond_cap && cell.thin_beyond_retiling_cap()) {
     dem::RegenerationSettings regeneration;
     regeneration.q_t = settings_.substepping.q_t;

@@ -61,6 +61,7 @@ class LiveCellModel {
   // it holds as it is, and so does the volume of its point, until the point is compressed. Without
   // this, a fragment whose affine velocity APIC keeps alive (an isolated point keeps its B_p, so its
   // L never decays as a ballistic cloud's does) stretches its cell exponentially, to kilometres.
+  // Each such increment counts in counters.dispersed_holds.
   dem::Mat3 advance(dem::DemCell& cell, const KinematicIncrement& increment, CouplingCounters& counters) const;
   static constexpr double kDispersedVolumeRatio = 100;
   // Counts the doublings of a cell that had `spheres_before` spheres into `counters` (for cells

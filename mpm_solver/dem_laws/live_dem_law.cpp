@@ -27,21 +27,25 @@ void LiveDemLaw::update(std::size_t slot, const KinematicIncrement& increment, c
 namespace {
 constexpr const char* kCounterTable = "live_counters";  // per point: retilings, regenerations, unconverged
 constexpr std::size_t kCounterColumns = 3;
+constexpr const char* kHoldTable = "live_dispersed_holds";  // per point (absent in older files: 0)
 }  // namespace
 
 void LiveDemLaw::save_state(LawStateWriter& out) const {
-  std::vector<double> counters;
+  std::vector<double> counters, holds;
   for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
     out.write_cell("cell_" + std::to_string(slot), cells_[slot]);
     const CouplingCounters& c = counters_[slot];
     counters.insert(counters.end(), {double(c.retilings), double(c.regenerations), double(c.regenerations_unconverged)});
+    holds.push_back(double(c.dispersed_holds));
   }
   out.write_table(kCounterTable, counters, kCounterColumns);
+  out.write_table(kHoldTable, holds, 1);
 }
 
 void LiveDemLaw::restore_state(LawStateReader& in) {
   const std::vector<double> counters =
       in.has_table(kCounterTable) ? in.read_table(kCounterTable, kCounterColumns) : std::vector<double>{};
+  const std::vector<double> holds = in.has_table(kHoldTable) ? in.read_table(kHoldTable, 1) : std::vector<double>{};
   for (std::size_t slot = 0; slot < cells_.size(); ++slot) {
     cells_[slot] = model_.cell_from(in.read_cell("cell_" + std::to_string(slot)));
     CouplingCounters& c = counters_[slot];
@@ -55,6 +59,7 @@ void LiveDemLaw::restore_state(LawStateReader& in) {
       c = CouplingCounters{};
       LiveCellModel::count_retilings(model_.template_size(), cells_[slot], c);
     }
+    if (holds.size() == cells_.size()) c.dispersed_holds = static_cast<std::uint64_t>(holds[slot]);
     measure(slot);
   }
 }

@@ -48,7 +48,8 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"enriched_records", c.enriched_records},
                     {"retilings", c.retilings},
                     {"regenerations", c.regenerations},
-                    {"regenerations_unconverged", c.regenerations_unconverged}});
+                    {"regenerations_unconverged", c.regenerations_unconverged},
+                    {"dispersed_holds", c.dispersed_holds}});
   }
   return {{"laws", laws},
           {"skipped_point_steps", solver.skipped_updates()},

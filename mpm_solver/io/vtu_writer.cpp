@@ -42,7 +42,7 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   const std::size_t n = points.size();
   std::vector<double> xyz, velocity, stress, pressure, q, rate, damage, density, error;
   std::vector<std::int32_t> law, source;
-  std::vector<std::int64_t> hits, misses, live_steps, retilings, regenerations;
+  std::vector<std::int64_t> hits, misses, live_steps, retilings, regenerations, dispersed_holds;
   std::vector<std::int64_t> id, connectivity, offsets;
   std::vector<std::uint8_t> types(n, 1);  // VTK_VERTEX
   for (std::size_t k = 0; k < n; ++k) {
@@ -66,6 +66,7 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
     live_steps.push_back(static_cast<std::int64_t>(c.live_updates));
     retilings.push_back(static_cast<std::int64_t>(c.retilings));
     regenerations.push_back(static_cast<std::int64_t>(c.regenerations));
+    dispersed_holds.push_back(static_cast<std::int64_t>(c.dispersed_holds));
     id.push_back(mp.id);
     connectivity.push_back(static_cast<std::int64_t>(k));
     offsets.push_back(static_cast<std::int64_t>(k + 1));
@@ -87,6 +88,7 @@ void write_vtu(const std::filesystem::path& file, const Solver& solver) {
   arrays.add("live_steps", "Int64", 1, live_steps);
   arrays.add("retilings", "Int64", 1, retilings);  // doublings of the point's live cell
   arrays.add("regenerations", "Int64", 1, regenerations);  // its cell replaced past the re-tiling cap
+  arrays.add("dispersed_holds", "Int64", 1, dispersed_holds);  // dilations its dispersed cell did not take
   arrays.add("id", "Int64", 1, id);
   const std::string point_data = arrays.take_xml();
   arrays.add("points", "Float64", 3, xyz);

@@ -170,13 +170,16 @@ TEST(LiveLaw, ADispersedCellTakesNoDilation) {
   const dem::Mat3 stress = model.advance(dispersed, increment(1.1), counters);
   EXPECT_EQ(stress, dem::Mat3::Zero());
   EXPECT_EQ(dispersed.cell_matrix(), h) << "a dilating increment must leave the dispersed cell as it is";
+  EXPECT_EQ(counters.dispersed_holds, 1u);
   model.advance(dispersed, increment(0.9), counters);
   EXPECT_NEAR(model.volume_ratio(dispersed), 144 * 0.81, 1e-9) << "compression is followed";
+  EXPECT_EQ(counters.dispersed_holds, 1u);
 
   dem::DemCell dilute = spread_by(3);
   ASSERT_EQ(dilute.interacting_pairs(), 0);
   model.advance(dilute, increment(1.1), counters);
   EXPECT_NEAR(model.volume_ratio(dilute), 9 * 1.21, 1e-9) << "below the threshold every increment is followed";
+  EXPECT_EQ(counters.dispersed_holds, 1u);
 }
 
 TEST(LiveLaw, RetilingCapIsReadAndBadKeysAreNamed) {

@@ -70,17 +70,22 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
   EXPECT_GT(friction, 0);
 }
 
+Mat2 flattening() {
+  Mat2 L;
+  L << 10, 0, 0, -10;
+  return L;
+}
+
 // A live point flattened at constant volume: its cell re-tiles (30 -> 60 spheres near t = 0.02 s)
-// or, with a cap below that, is regenerated.
-Solver flattened_live_point(const dem::DemCell& cell, std::size_t max_spheres = 480, bool regenerate = false) {
+// or, with a cap below that, is regenerated. Or driven at another L.
+Solver flattened_live_point(const dem::DemCell& cell, std::size_t max_spheres = 480, bool regenerate = false,
+                            const Mat2& L = flattening()) {
   Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
   LiveDemSettings settings;
   settings.max_spheres = max_spheres;
   settings.regenerate_beyond_cap = regenerate;
   solver.add_law(std::make_unique<LiveDemLaw>(cell, settings));
   solver.add_point(0, Vec2(0.43, 0.37), 1e-2, 0.05);
-  Mat2 L;
-  L << 10, 0, 0, -10;
   solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
   return solver;
 }
@@ -121,6 +126,39 @@ void expect_exact_resume_across_a_cell_change(std::size_t max_spheres, bool rege
   EXPECT_EQ(got.retilings, expected.retilings);
   EXPECT_EQ(got.regenerations, expected.regenerations);
   EXPECT_EQ(got.regenerations_unconverged, expected.regenerations_unconverged);
+}
+
+// A point dilated until its cell's grains fly apart: the dilations its dispersed cell did not take
+// (live_cell_model.hpp) are counted, and the count survives a restart. The bonds are broken first:
+// bonded clusters would fly apart whole, still interacting, so the cell would not count as dispersed.
+TEST(Restart, TheDispersedHoldsOfACellContinueExactly) {
+  const dem::DemCell bonded = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
+  dem::CellState unbonded = bonded.state();
+  for (dem::Bond& b : unbonded.bonds) b.intact = false;
+  const dem::DemCell cell(unbonded, bonded.material(), bonded.skin());
+  const Mat2 dilation = 40 * Mat2::Identity();  // volume × 100 in ln(100)/80 ≈ 0.058 s
+  const auto run = [](Solver& s, int steps) {
+    for (int k = 0; k < steps; ++k) s.step(2e-4);
+  };
+  Solver reference = flattened_live_point(cell, 480, false, dilation);
+  run(reference, 500);
+  Solver first = flattened_live_point(cell, 480, false, dilation);
+  run(first, 400);
+  const std::uint64_t held = live(first).point_counters(0).dispersed_holds;
+  std::printf("dispersed holds after 400 steps: %llu, after 500: %llu\n", static_cast<unsigned long long>(held),
+              static_cast<unsigned long long>(live(reference).point_counters(0).dispersed_holds));
+  ASSERT_GT(held, 0u) << "the cell must have dispersed before the restart";
+  EXPECT_LT(first.points()[0].volume, 102 * 1e-2) << "a held cell keeps its point's volume near 100x";
+  const auto file = std::filesystem::temp_directory_path() / "gb_mpm_restart_dispersed_test.h5";
+  std::filesystem::remove(file);
+  io::write_restart(file, first);
+  Solver resumed = flattened_live_point(cell, 480, false, dilation);
+  io::read_restart(file, resumed);
+  EXPECT_EQ(live(resumed).point_counters(0).dispersed_holds, held);
+  run(resumed, 100);
+  EXPECT_EQ(live(resumed).point_counters(0).dispersed_holds, live(reference).point_counters(0).dispersed_holds);
+  EXPECT_EQ(live(resumed).point_counters(0).dispersed_holds, held + 100) << "every dilating step was held";
+  EXPECT_EQ(resumed.points()[0].volume, reference.points()[0].volume);
 }
 
 TEST(Restart, ACellReTiledBeforeTheRestartContinuesExactly) {
