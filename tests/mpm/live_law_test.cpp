@@ -112,6 +112,7 @@ TEST(LiveLaw, SeedEquation4IsBlindToRetilingAndFlips) {
   // A point without a cell: the template deformed by F. Sheared by γ = 5, the lattice is the
   // template's again (a flip undoes an integer shear of an orthorhombic cell), while the x row of
   // the unflipped cell F h0, read by L' = (v_y = 3 x), would reach 5 h0_yy.
+  ASSERT_GT(5 * h0(1, 1), h0(0, 0)) << "else the unflipped cell would be no faster";
   Mat2 sheared, L_prime;
   sheared << 1, 5, 0, 1;
   L_prime << 0, 0, 3, 0;
@@ -119,7 +120,6 @@ TEST(LiveLaw, SeedEquation4IsBlindToRetilingAndFlips) {
   const double unsheared = model.time_step_limit(Mat2::Identity(), L_prime);
   EXPECT_NEAR(model.time_step_limit(sheared, L_prime), unsheared, 1e-12 * unsheared);
   EXPECT_NEAR(unsheared, 0.02 * d_min / (3 * h0(0, 0)), 1e-12 * unsheared);
-  ASSERT_GT(5 * h0(1, 1), h0(0, 0)) << "else the unflipped cell would be no faster";
 }
 
 // A cell whose grains all fly apart has no contact or bond for the step to resolve.
