@@ -90,14 +90,12 @@ DemCell::DemCell(CellState st, Material material, double skin)
   } else {
     force_ = std::move(st.force);
     torque_ = std::move(st.torque);
-    pairs_ = std::move(st.pairs);
-    bonds_ = std::move(st.bonds);
-    rolling_ = std::move(st.rolling_moment);
-    h_build_ = st.h_at_list_build;
-    s_build_ = std::move(st.reduced_position_at_list_build);
-    for (const Pair& p : pairs_)
+    for (const Pair& p : st.pairs)
       if (p.i >= n || p.j >= n || p.i >= p.j || p.image >= kShiftCount)
         throw std::invalid_argument("cell state: a Verlet pair names a sphere or image that does not exist");
+    pairs_ = PairTable::from_rows(st.pairs, st.bonds, st.rolling_moment);
+    h_build_ = st.h_at_list_build;
+    s_build_ = std::move(st.reduced_position_at_list_build);
     update_positions();
   }
 }
@@ -297,26 +295,29 @@ void DemCell::rebuild_list() {
   // Carry the history of surviving pairs (both lists sorted by (i, j)). Intact bonds stretched beyond
   // the Verlet range stay listed, with the image of j closest to i; they are collected apart and
   // merged afterwards so the new list is not reallocated while it is walked.
+  const std::vector<Pair> old_pairs = pairs_.pair_rows();
+  const std::vector<Bond> old_bonds = pairs_.bond_rows();
+  const std::vector<Vec3> old_rolling = pairs_.rolling_rows();
   std::vector<Bond> new_bonds(material_.effects.bonds ? scratch_pairs_.size() : 0);
   std::vector<Vec3> new_rolling(material_.effects.rolling ? scratch_pairs_.size() : 0, Vec3::Zero());
   std::vector<std::size_t> kept;  // indices into the old list
   auto key = [](const Pair& p) { return (static_cast<std::uint64_t>(p.i) << 32) | p.j; };
   auto keep_if_bonded = [&](std::size_t k_old) {
-    if (!bonds_.empty() && bonds_[k_old].intact) kept.push_back(k_old);
+    if (!old_bonds.empty() && old_bonds[k_old].intact) kept.push_back(k_old);
   };
   std::size_t k_old = 0;
   for (std::size_t k = 0; k < scratch_pairs_.size(); ++k) {
     Pair& p = scratch_pairs_[k];
     p.damping = coef_.pair_damping(mass_[p.i], mass_[p.j]);
-    for (; k_old < pairs_.size() && key(pairs_[k_old]) < key(p); ++k_old) keep_if_bonded(k_old);
-    if (k_old < pairs_.size() && key(pairs_[k_old]) == key(p)) {
-      p.ft = pairs_[k_old].ft;
-      if (!bonds_.empty()) new_bonds[k] = bonds_[k_old];
-      if (!rolling_.empty()) new_rolling[k] = rolling_[k_old];
+    for (; k_old < old_pairs.size() && key(old_pairs[k_old]) < key(p); ++k_old) keep_if_bonded(k_old);
+    if (k_old < old_pairs.size() && key(old_pairs[k_old]) == key(p)) {
+      p.ft = old_pairs[k_old].ft;
+      if (!old_bonds.empty()) new_bonds[k] = old_bonds[k_old];
+      if (!old_rolling.empty()) new_rolling[k] = old_rolling[k_old];
       ++k_old;
     }
   }
-  for (; k_old < pairs_.size(); ++k_old) keep_if_bonded(k_old);
+  for (; k_old < old_pairs.size(); ++k_old) keep_if_bonded(k_old);
   if (!kept.empty()) {
     std::vector<Pair> merged;
     std::vector<Bond> merged_bonds;
@@ -330,21 +331,19 @@ void DemCell::rebuild_list() {
       ++a;
     };
     for (std::size_t k_kept : kept) {
-      Pair out_of_range = pairs_[k_kept];
+      Pair out_of_range = old_pairs[k_kept];
       out_of_range.image = static_cast<std::uint32_t>(closest_image(out_of_range.i, out_of_range.j));
       while (a < scratch_pairs_.size() && key(scratch_pairs_[a]) < key(out_of_range)) take_new();
       merged.push_back(out_of_range);
-      merged_bonds.push_back(bonds_[k_kept]);
-      if (!new_rolling.empty()) merged_rolling.push_back(rolling_[k_kept]);
+      merged_bonds.push_back(old_bonds[k_kept]);
+      if (!new_rolling.empty()) merged_rolling.push_back(old_rolling[k_kept]);
     }
     while (a < scratch_pairs_.size()) take_new();
     scratch_pairs_.swap(merged);
     new_bonds.swap(merged_bonds);
     new_rolling.swap(merged_rolling);
   }
-  pairs_.swap(scratch_pairs_);
-  bonds_.swap(new_bonds);
-  rolling_.swap(new_rolling);
+  pairs_ = PairTable::from_rows(scratch_pairs_, new_bonds, new_rolling);
   h_build_ = h_;
   s_build_ = s_;
   ++list_builds_;
@@ -417,11 +416,13 @@ std::int64_t DemCell::create_bonds(double bonding_distance) {
   update_positions();
   std::int64_t count = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const Pair& p = pairs_[k];
-    const double rsum = radius_[p.i] + radius_[p.j];
-    const double gap = (x_[p.j] - x_[p.i] + shift_[p.image]).norm() - rsum;
+    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
+    const double rsum = radius_[i] + radius_[j];
+    const double gap = (x_[j] - x_[i] + shift_[pairs_.image[k]]).norm() - rsum;
     if (gap < bonding_distance * rsum) {
-      bonds_[k] = Bond{Vec3::Zero(), gap, true};
+      for (auto& c : pairs_.bond_shear) c[k] = 0;
+      pairs_.bond_rest_gap[k] = gap;
+      pairs_.bond_intact[k] = 1;
       ++count;
     }
   }
@@ -431,18 +432,20 @@ std::int64_t DemCell::create_bonds(double bonding_distance) {
 
 std::size_t DemCell::contact_count() const {
   std::size_t c = 0;
-  for (const Pair& p : pairs_) {
-    const double rsum = radius_[p.i] + radius_[p.j];
-    if ((x_[p.j] - x_[p.i] + shift_[p.image]).squaredNorm() < rsum * rsum) ++c;
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
+    const double rsum = radius_[i] + radius_[j];
+    if ((x_[j] - x_[i] + shift_[pairs_.image[k]]).squaredNorm() < rsum * rsum) ++c;
   }
   return c;
 }
 
 double DemCell::max_overlap() const {
   double largest = 0;
-  for (const Pair& p : pairs_) {
-    const double rsum = radius_[p.i] + radius_[p.j];
-    largest = std::max(largest, 1 - (x_[p.j] - x_[p.i] + shift_[p.image]).norm() / rsum);
+  for (std::size_t k = 0; k < pairs_.size(); ++k) {
+    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
+    const double rsum = radius_[i] + radius_[j];
+    largest = std::max(largest, 1 - (x_[j] - x_[i] + shift_[pairs_.image[k]]).norm() / rsum);
   }
   return largest;
 }
@@ -460,7 +463,7 @@ CellMeasures DemCell::measures() const {
   }
   m.solid_fraction = solid / cell_volume(h_);
   m.coordination = 2.0 * static_cast<double>(active_pairs_) / static_cast<double>(n);
-  for (const Bond& b : bonds_) m.bonds += b.intact ? 1 : 0;
+  m.bonds = pairs_.intact_bonds();
   m.damage = initial_bonds_ > 0 ? 1.0 - static_cast<double>(m.bonds) / static_cast<double>(initial_bonds_) : 0.0;
   m.unbalanced_force_ratio =
       active_pairs_ > 0 && sum_pair_force_ > 0
@@ -478,8 +481,8 @@ std::vector<Vec3> DemCell::positions() const {
 std::size_t DemCell::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
   return bytes(radius_) + bytes(mass_) + bytes(inv_mass_) + bytes(inv_inertia_) + bytes(s_) + bytes(u_) +
-         bytes(omega_) + bytes(x_) + bytes(force_) + bytes(torque_) + bytes(pairs_) + bytes(bonds_) +
-         bytes(rolling_) + bytes(s_build_) + bytes(scratch_pairs_);
+         bytes(omega_) + bytes(x_) + bytes(force_) + bytes(torque_) + pairs_.memory_bytes() +
+         bytes(s_build_) + bytes(scratch_pairs_);
 }
 
 CellState DemCell::state() const {
@@ -493,9 +496,9 @@ CellState DemCell::state() const {
   st.angular_velocity = omega_;
   st.force = force_;
   st.torque = torque_;
-  st.pairs = pairs_;
-  st.bonds = bonds_;
-  st.rolling_moment = rolling_;
+  st.pairs = pairs_.pair_rows();
+  st.bonds = pairs_.bond_rows();
+  st.rolling_moment = pairs_.rolling_rows();
   st.initial_bond_count = initial_bonds_;
   st.h_at_list_build = h_build_;
   st.reduced_position_at_list_build = s_build_;

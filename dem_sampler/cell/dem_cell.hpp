@@ -16,11 +16,13 @@
 // the second term only when the kinetic-stress effect is on (seed Eq. 2).
 #pragma once
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "dem_sampler/cell/cell_state.hpp"
 #include "dem_sampler/cell/interaction_law.hpp"
 #include "dem_sampler/cell/material.hpp"
+#include "dem_sampler/cell/pair_table.hpp"
 #include "dem_sampler/cell/periodic_cell.hpp"
 #include "dem_sampler/cell/substepping.hpp"
 #include "dem_sampler/cell/verlet_list.hpp"
@@ -125,9 +127,11 @@ class DemCell {
   CellState state() const;
 
  private:
-  template <bool Bonds, bool Rolling, bool Measure>
+  template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
   void compute_forces(double dt);
   void compute_forces(bool measure, double dt);
+  template <std::size_t... Flags>
+  static constexpr auto force_kernels(std::index_sequence<Flags...>);
   // Moves to h_new over dt (constant ḣ); measures stress when asked.
   void step_to(const Mat3& h_new, double dt, bool measure);
   void update_positions();
@@ -164,16 +168,14 @@ class DemCell {
   double time_ = 0;
   std::vector<double> radius_, mass_, inv_mass_, inv_inertia_;
   std::vector<Vec3> s_, u_, omega_, x_, force_, torque_;
-  std::vector<Pair> pairs_;
-  std::vector<Bond> bonds_;             // empty unless bonds are on
-  std::vector<Vec3> rolling_;           // empty unless rolling is on
+  PairTable pairs_;                     // with bonds and rolling moments when those effects are on
   std::int64_t initial_bonds_ = 0;
   Vec3 shift_[kShiftCount];             // h n for every image code
 
   Mat3 h_build_;
   std::vector<Vec3> s_build_;
   VerletListBuilder builder_;
-  std::vector<Pair> scratch_pairs_;
+  std::vector<Pair> scratch_pairs_;     // the builder's output, kept to reuse its memory
   std::int64_t flips_ = 0, list_builds_ = 0;
 
   // Accumulated by a measuring force evaluation.

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "dem_sampler/cell/cell_state.hpp"
+#include "dem_sampler/cell/lane_vector.hpp"
 #include "dem_sampler/cell/material.hpp"
 
 namespace grainbank::dem {
@@ -45,14 +46,24 @@ struct InteractionCoefficients {
   }
 };
 
+// Every function below is a pure function of its arguments, free of branches on the data (a choice
+// between two computed values is a select): the force loop evaluates them for eight pairs at once and
+// masks out what does not apply to a pair.
+
 // Objectivity of tangential history (a tangential spring force or bond shear displacement): turn t
 // with the contact frame, i.e. bring it back into the plane normal to the new n and twist it about n
 // by the pair's mean spin, (ω_i + ω_j)·n δt / 2. A rigid rotation of the pair then carries t along
 // instead of loading it. Its length changes only at second order in the per-step turn θ and twist φ,
 // by (φ² - θ²)/2 relative (about 1e-10 per step in practice); not rescaling it saves a division
 // per contact, as in LAMMPS.
-inline void rotate_with_contact_frame(Vec3& t, const Vec3& n, double twist) {
-  t += twist * n.cross(t) - t.dot(n) * n;
+inline LaneVec rotated_with_contact_frame(const LaneVec& t, const LaneVec& n, double twist) {
+  return t + twist * cross(n, t) - dot(t, n) * n;
+}
+
+// The factor that brings a spring force (or moment) of squared length `length2` within `cap`:
+// min(1, cap / sqrt(length2)).
+inline double coulomb_factor(double length2, double cap) {
+  return length2 > cap * cap ? cap / std::sqrt(length2) : 1.0;
 }
 
 // Contact, normal part (seed Fig. 1a): f_c = -w_c k_n d_n - c_n v_n, for d_n < 0.
@@ -63,21 +74,20 @@ inline double contact_normal_force(const InteractionCoefficients& c, double gap,
 }
 
 // Contact, tangential part (seed Fig. 1b): incremental spring f_t <- R(f_t) - w_c k_t v_t δt,
-// capped by Coulomb |f_t| <= μ f_n.
-inline void update_friction(const InteractionCoefficients& c, const Vec3& n, double twist, const Vec3& slip,
-                            double normal_force, Vec3& ft) {
-  rotate_with_contact_frame(ft, n, twist);
-  ft -= c.kt_contact * slip;
-  const double cap = c.friction * std::max(normal_force, 0.0);
-  const double f2 = ft.squaredNorm();
-  if (f2 > cap * cap) ft *= cap / std::sqrt(f2);
+// capped by Coulomb |f_t| <= μ f_n. Returns the new f_t.
+inline LaneVec friction_force(const InteractionCoefficients& c, const LaneVec& n, double twist, const LaneVec& slip,
+                           double normal_force, const LaneVec& previous) {
+  const LaneVec trial = rotated_with_contact_frame(previous, n, twist) - c.kt_contact * slip;
+  return trial * coulomb_factor(squared_norm(trial), c.friction * std::max(normal_force, 0.0));
 }
 
 // Bond yield function Φ = T/T_0 + (S/S_0)^p - 1 (seed Fig. 1 bottom), T the tension (> 0 pulled),
-// S the magnitude of the bond shear force.
-inline double bond_yield(const InteractionCoefficients& c, double tension, double shear) {
-  const double s = shear * c.inv_shear_strength;
-  const double sp = c.exponent == 2 ? s * s : std::pow(s, c.exponent);
+// S the magnitude of the bond shear force, given as S². The usual p = 2 (Quadratic) needs neither a
+// square root nor a power, and so vectorizes.
+template <bool Quadratic>
+inline double bond_yield(const InteractionCoefficients& c, double tension, double shear_squared) {
+  const double s2 = shear_squared * c.inv_shear_strength * c.inv_shear_strength;
+  const double sp = Quadratic ? s2 : std::pow(s2, 0.5 * c.exponent);
   return tension * c.inv_tensile_strength + sp - 1;
 }
 
@@ -85,20 +95,20 @@ inline double bond_yield(const InteractionCoefficients& c, double tension, doubl
 // u_n^0"), shear -w_b k_t u_b with u_b the total tangential displacement since bonding.
 // Elastic-brittle: when the trial forces reach Φ >= 0 the bond breaks and carries nothing from this
 // step on; the contact law alone then acts on the pair (seed Fig. 1 bottom, force jumps).
-// Returns whether the bond is still intact; if so its forces are added to fn and ft.
-inline bool add_bond_force(const InteractionCoefficients& c, Bond& bond, double gap, const Vec3& n,
-                           double twist, const Vec3& slip, double& fn, Vec3& ft) {
-  rotate_with_contact_frame(bond.shear_displacement, n, twist);
-  bond.shear_displacement += slip;
-  const double tension = c.kn_bond * (gap - bond.rest_gap);
-  const double shear = c.kt_bond * bond.shear_displacement.norm();
-  if (bond_yield(c, tension, shear) >= 0) {
-    bond.intact = false;
-    return false;
-  }
-  fn -= tension;
-  ft -= c.kt_bond * bond.shear_displacement;
-  return true;
+struct BondStep {
+  LaneVec shear_displacement;  // u_b after the step
+  double tension;           // T = w_b k_n (d_n - g_0): the bond's normal force on j is -T
+  bool holds;               // Φ < 0: intact after the step
+};
+template <bool Quadratic>
+inline BondStep bond_step(const InteractionCoefficients& c, const LaneVec& shear_displacement, double rest_gap,
+                          double gap, const LaneVec& n, double twist, const LaneVec& slip) {
+  BondStep b;
+  b.shear_displacement = rotated_with_contact_frame(shear_displacement, n, twist) + slip;
+  b.tension = c.kn_bond * (gap - rest_gap);
+  const double shear_squared = c.kt_bond * c.kt_bond * squared_norm(b.shear_displacement);
+  b.holds = bond_yield<Quadratic>(c, b.tension, shear_squared) < 0;
+  return b;
 }
 
 // Rolling resistance (optional): a rolling spring M <- R(M) - k_r Δθ_r, Δθ_r = ((ω_j - ω_i) δt)⊥n the
@@ -106,15 +116,13 @@ inline bool add_bond_force(const InteractionCoefficients& c, Bond& bond, double 
 // M stays ⟂ n and turns with the contact frame like the tangential spring, so a rigidly rotating pair
 // carries its moment along and loads no new one. Twisting about n is not resisted: the model has no
 // twisting law (RollingLaw holds k_r and μ_r only), and a twist must not eat into the rolling cap.
-// The moment acts on j; i receives -M.
-inline void update_rolling_moment(const InteractionCoefficients& c, const Vec3& n, double twist,
-                                  const Vec3& relative_rotation, double radius_ij, double normal_force,
-                                  Vec3& moment) {
-  rotate_with_contact_frame(moment, n, twist);
-  moment -= c.rolling_stiffness * (relative_rotation - relative_rotation.dot(n) * n);
-  const double cap = c.rolling_friction * radius_ij * std::max(normal_force, 0.0);
-  const double m2 = moment.squaredNorm();
-  if (m2 > cap * cap) moment *= cap / std::sqrt(m2);
+// The moment acts on j; i receives -M. Returns the new M.
+inline LaneVec rolling_moment(const InteractionCoefficients& c, const LaneVec& n, double twist,
+                           const LaneVec& relative_rotation, double radius_ij, double normal_force,
+                           const LaneVec& previous) {
+  const LaneVec trial = rotated_with_contact_frame(previous, n, twist) -
+                     c.rolling_stiffness * (relative_rotation - dot(relative_rotation, n) * n);
+  return trial * coulomb_factor(squared_norm(trial), c.rolling_friction * radius_ij * std::max(normal_force, 0.0));
 }
 
 }  // namespace grainbank::dem

@@ -1,0 +1,38 @@
+// A 3-vector of plain doubles, the type the vectorized force loop and the interaction law compute
+// with: one pair's vector, held in three SIMD lanes' worth of registers when eight pairs advance at
+// once. Eigen stays outside that loop because its expression templates build temporaries holding
+// references, which the vectorizer cannot give each lane.
+#pragma once
+#include "dem_sampler/cell/types.hpp"
+
+namespace grainbank::dem {
+
+struct LaneVec {
+  double x = 0, y = 0, z = 0;
+
+  LaneVec() = default;
+  LaneVec(double x_, double y_, double z_) : x(x_), y(y_), z(z_) {}
+  explicit LaneVec(const Vec3& v) : x(v[0]), y(v[1]), z(v[2]) {}
+  LaneVec& operator+=(const LaneVec& b) { return *this = {x + b.x, y + b.y, z + b.z}; }
+  LaneVec& operator-=(const LaneVec& b) { return *this = {x - b.x, y - b.y, z - b.z}; }
+};
+
+inline LaneVec operator+(const LaneVec& a, const LaneVec& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+inline LaneVec operator-(const LaneVec& a, const LaneVec& b) { return {a.x - b.x, a.y - b.y, a.z - b.z}; }
+inline LaneVec operator*(double s, const LaneVec& a) { return {s * a.x, s * a.y, s * a.z}; }
+inline LaneVec operator*(const LaneVec& a, double s) { return s * a; }
+inline double dot(const LaneVec& a, const LaneVec& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+inline double squared_norm(const LaneVec& a) { return dot(a, a); }
+inline LaneVec cross(const LaneVec& a, const LaneVec& b) {
+  return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+// mask ? a : b, component by component: a select, not a branch.
+inline LaneVec select(bool mask, const LaneVec& a, const LaneVec& b) {
+  return {mask ? a.x : b.x, mask ? a.y : b.y, mask ? a.z : b.z};
+}
+inline LaneVec times(const Mat3& m, const LaneVec& a) {
+  return {m(0, 0) * a.x + m(0, 1) * a.y + m(0, 2) * a.z, m(1, 0) * a.x + m(1, 1) * a.y + m(1, 2) * a.z,
+          m(2, 0) * a.x + m(2, 1) * a.y + m(2, 2) * a.z};
+}
+
+}  // namespace grainbank::dem
