@@ -194,49 +194,6 @@ void DemCell::step_mixed(const MixedControl& c, double dt) {
   step_to(h_ + dt * L * h_, dt, true);
 }
 
-namespace {
-// Cundall local damping (preparation only): each component of a force or torque loses α of its
-// magnitude against the motion, so quasi-static relaxation converges faster.
-Vec3 locally_damped(const Vec3& f, const Vec3& v, double alpha) {
-  Vec3 d;
-  for (int k = 0; k < 3; ++k) d[k] = f[k] - alpha * std::abs(f[k]) * (v[k] > 0 ? 1.0 : (v[k] < 0 ? -1.0 : 0.0));
-  return d;
-}
-}  // namespace
-
-template <bool Damped>
-void DemCell::kick_sphere(std::size_t p, double half_dt, const Mat3& Lt) {
-  Vec3 f = force_[p], torque = torque_[p];
-  if constexpr (Damped) {
-    f = locally_damped(f, u_[p], local_damping_);
-    torque = locally_damped(torque, omega_[p], local_damping_);
-  }
-  u_[p] += half_dt * (f * inv_mass_[p] - Lt * u_[p]);
-  omega_[p] += half_dt * inv_inertia_[p] * torque;
-}
-
-template <bool Damped>
-double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new) {
-  const double half_dt = 0.5 * dt;
-  const Mat3 Lt = L.transpose();
-  double max_displacement2 = 0;
-  const std::size_t n = radius_.size();
-  for (std::size_t p = 0; p < n; ++p) {
-    kick_sphere<Damped>(p, half_dt, Lt);
-    s_[p] += dt * (h_mid_inv * u_[p]);
-    x_[p] = h_new * s_[p];
-    max_displacement2 = std::max(max_displacement2, (x_[p] - h_new * s_build_[p]).squaredNorm());
-  }
-  return max_displacement2;
-}
-
-template <bool Damped>
-void DemCell::kick(double half_dt, const Mat3& L) {
-  const Mat3 Lt = L.transpose();
-  const std::size_t n = radius_.size();
-  for (std::size_t p = 0; p < n; ++p) kick_sphere<Damped>(p, half_dt, Lt);
-}
-
 void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
   const Mat3 hdot = (h_new - h_) / dt;
   const Mat3 L_start = hdot * h_inv_;

@@ -147,15 +147,13 @@ class DemCell {
   Mat3 retile_if_needed();
   // The smallest width is within kRetileMargin of twice the interaction range.
   bool due_to_retile() const;
-  // Velocity Verlet halves: first kick + drift (returns the largest squared fluctuation displacement
-  // since the last list build), and the closing kick. Damped = Cundall local damping on.
+  // Velocity Verlet halves (dem_cell_motion.cpp): first kick + drift (returns the largest squared
+  // fluctuation displacement since the last list build), and the closing kick. Damped = Cundall
+  // local damping on.
   template <bool Damped>
   double kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new);
   template <bool Damped>
   void kick(double half_dt, const Mat3& L);
-  // Half a velocity-Verlet kick of sphere p (Lt = Lᵀ of the current velocity gradient).
-  template <bool Damped>
-  void kick_sphere(std::size_t p, double half_dt, const Mat3& Lt);
 
   Material material_;
   InteractionCoefficients coef_;

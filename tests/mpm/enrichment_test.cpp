@@ -195,7 +195,9 @@ TEST(Enrichment, ARetiledCellIsSnapshotWithItsOwnSphereCount) {
     }
     enrichment.finish(path);
   }
-  ASSERT_EQ(cell.size(), 2 * template_size) << "the cell must re-tile within a log strain of 2";
+  // Once or more: a doubling can leave another width at the limit, and the prepared template's shape
+  // decides which.
+  ASSERT_GE(cell.size(), 2 * template_size) << "the cell must re-tile within a log strain of 2";
   const auto [records, restored] = link.locked([&](db::Library& library) {
     const std::size_t n = library.records(path_id).size();
     return std::pair(n, library.restore(library.snapshot_cell(path_id, static_cast<std::int64_t>(n) - 1)));
