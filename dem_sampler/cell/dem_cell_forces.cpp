@@ -4,8 +4,8 @@
 //
 // The loop runs in blocks of pairs, in two passes. The first computes each pair's force and the
 // torques on its two spheres, with no branch on the data: contact, friction cap and bond are all
-// evaluated and masked by selects, so the compiler vectorizes it (`omp simd`; AVX-512 or AVX2 under
-// -march=native, SSE2 otherwise) and eight pairs advance at once. Pair data are columns
+// evaluated and masked by selects, so the compiler vectorizes it (`omp simd`, the build's instruction
+// set) and four pairs advance at once in 256-bit vectors. Pair data are columns
 // (pair_table.hpp); sphere data are gathered. The second pass adds the forces to the spheres, in
 // pair order: it is scalar because two pairs of a block may share a sphere.
 #include <array>
@@ -42,11 +42,9 @@ struct Columns {
         rolling{t.rolling[0].data(), t.rolling[1].data(), t.rolling[2].data()} {}
 };
 
-LaneVec at(const double* xyz, std::uint32_t k) { return {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]}; }
+LaneVec load_column(double* const (&c)[3], std::size_t k) { return {c[0][k], c[1][k], c[2][k]}; }
 
-LaneVec column(double* const (&c)[3], std::size_t k) { return {c[0][k], c[1][k], c[2][k]}; }
-
-void store(double* const (&c)[3], std::size_t k, const LaneVec& v) {
+void store_column(double* const (&c)[3], std::size_t k, const LaneVec& v) {
   c[0][k] = v.x;
   c[1][k] = v.y;
   c[2][k] = v.z;
@@ -79,7 +77,8 @@ template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
     for (std::size_t q = 0; q < m; ++q) {
       const std::size_t k = begin + q;
       const std::uint32_t i = P.i[k], j = P.j[k];
-      const LaneVec l = at(x, j) - at(x, i) + at(shift, P.image[k]);  // branch vector ℓ from i to the image of j
+      // Branch vector ℓ from i to the image of j.
+      const LaneVec l = load_lane(x, j) - load_lane(x, i) + load_lane(shift, P.image[k]);
       const double r2 = squared_norm(l);
       const double ri = radius[i], rj = radius[j], rsum = ri + rj;
       const bool touching = r2 < rsum * rsum;
@@ -87,9 +86,9 @@ template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
       const LaneVec n = l * (1 / r);  // one division, not one per component
       const double gap = r - rsum;
       const double arm_i = ri + 0.5 * gap, arm_j = rj + 0.5 * gap;  // to the contact point
-      const LaneVec wi = at(omega, i) + cell_spin, wj = at(omega, j) + cell_spin;
+      const LaneVec wi = load_lane(omega, i) + cell_spin, wj = load_lane(omega, j) + cell_spin;
       // Velocity of j's contact point relative to i's: fluctuations, affine field L ℓ, and spins.
-      const LaneVec v = at(u, j) - at(u, i) + times(L, l) - cross(arm_i * wi + arm_j * wj, n);
+      const LaneVec v = load_lane(u, j) - load_lane(u, i) + times(L, l) - cross(arm_i * wi + arm_j * wj, n);
       const double vn = dot(v, n);
       const LaneVec slip = (v - vn * n) * dt;
       const double twist = 0.5 * dt * dot(wi + wj, n);
@@ -97,18 +96,18 @@ template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
       // A contact lost forgets its history.
       const double fn_contact = contact_normal_force(c, gap, vn, P.damping[k]);
       double fn = touching ? fn_contact : 0.0;
-      LaneVec ft = select(touching, friction_force(c, n, twist, slip, fn_contact, column(P.ft, k)), LaneVec());
-      store(P.ft, k, ft);
+      LaneVec ft = select(touching, friction_force(c, n, twist, slip, fn_contact, load_column(P.ft, k)), LaneVec());
+      store_column(P.ft, k, ft);
       bool interacting = touching;
       if constexpr (Bonds) {
         // Masks as 0/1 factors rather than selects: the compiler would turn a select on `bonded`
         // back into a branch around the whole bond law, and then not vectorize the loop.
         const double bonded = P.bond_intact[k];  // intact at the start of the step
-        const LaneVec shear_before = column(P.bond_shear, k);
+        const LaneVec shear_before = load_column(P.bond_shear, k);
         const BondStep bond = bond_step<QuadraticYield>(c, shear_before, P.bond_rest_gap[k], gap, n, twist, slip);
         const double holds = bonded * (bond.holds ? 1.0 : 0.0);
         // A bond keeps the history of the step that broke it; a broken one's no longer changes.
-        store(P.bond_shear, k, bonded * bond.shear_displacement + (1 - bonded) * shear_before);
+        store_column(P.bond_shear, k, bonded * bond.shear_displacement + (1 - bonded) * shear_before);
         P.bond_intact[k] = holds;
         // The normal dashpot acts once per pair: with the contact's, or with the bond's alone.
         const double bond_normal = bond.tension + (touching ? 0.0 : P.damping[k] * vn);
@@ -120,10 +119,10 @@ template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
       const LaneVec n_x_ft = cross(n, ft);
       LaneVec moment = LaneVec();  // rolling moment on j
       if constexpr (Rolling) {
-        moment = select(touching,
-                        rolling_moment(c, n, twist, (wj - wi) * dt, ri * rj / rsum, fn_contact, column(P.rolling, k)),
+        const LaneVec previous = load_column(P.rolling, k);
+        moment = select(touching, rolling_moment(c, n, twist, (wj - wi) * dt, ri * rj / rsum, fn_contact, previous),
                         LaneVec());
-        store(P.rolling, k, moment);
+        store_column(P.rolling, k, moment);
       }
       const LaneVec torque_i = -arm_i * n_x_ft - moment, torque_j = -arm_j * n_x_ft + moment;
       out.force[0][q] = f.x, out.force[1][q] = f.y, out.force[2][q] = f.z;

@@ -10,14 +10,6 @@
 namespace grainbank::dem {
 namespace {
 
-LaneVec at(const double* xyz, std::size_t p) { return {xyz[3 * p], xyz[3 * p + 1], xyz[3 * p + 2]}; }
-
-void put(double* xyz, std::size_t p, const LaneVec& v) {
-  xyz[3 * p] = v.x;
-  xyz[3 * p + 1] = v.y;
-  xyz[3 * p + 2] = v.z;
-}
-
 // Cundall local damping (preparation only): each component of a force or torque loses α of its
 // magnitude against the motion, so quasi-static relaxation converges faster.
 double damped(double f, double v, double alpha) {
@@ -37,14 +29,14 @@ struct Kick {
   // Half a velocity-Verlet kick of sphere p.
   template <bool Damped>
   void apply(std::size_t p) const {
-    LaneVec f = at(force, p), torque = at(this->torque, p);
-    const LaneVec v = at(u, p), w = at(omega, p);
+    LaneVec f = load_lane(force, p), torque = load_lane(this->torque, p);
+    const LaneVec v = load_lane(u, p), w = load_lane(omega, p);
     if constexpr (Damped) {
       f = locally_damped(f, v, alpha);
       torque = locally_damped(torque, w, alpha);
     }
-    put(u, p, v + half_dt * (f * inv_mass[p] - times(Lt, v)));
-    put(omega, p, w + half_dt * inv_inertia[p] * torque);
+    store_lane(u, p, v + half_dt * (f * inv_mass[p] - times(Lt, v)));
+    store_lane(omega, p, w + half_dt * inv_inertia[p] * torque);
   }
 };
 
@@ -61,10 +53,10 @@ template <bool Damped>
 #pragma omp simd reduction(max : max_displacement2)
   for (std::size_t p = 0; p < n; ++p) {
     kick.apply<Damped>(p);
-    const LaneVec s_new = at(s, p) + dt * times(h_mid_inv, at(kick.u, p));
-    put(s, p, s_new);
-    put(x, p, times(h_new, s_new));
-    max_displacement2 = std::max(max_displacement2, squared_norm(times(h_new, s_new - at(s_build, p))));
+    const LaneVec s_new = load_lane(s, p) + dt * times(h_mid_inv, load_lane(kick.u, p));
+    store_lane(s, p, s_new);
+    store_lane(x, p, times(h_new, s_new));
+    max_displacement2 = std::max(max_displacement2, squared_norm(times(h_new, s_new - load_lane(s_build, p))));
   }
   return max_displacement2;
 }

@@ -3,6 +3,8 @@
 // once. Eigen stays outside that loop because its expression templates build temporaries holding
 // references, which the vectorizer cannot give each lane.
 #pragma once
+#include <cstddef>
+
 #include "dem_sampler/cell/types.hpp"
 
 namespace grainbank::dem {
@@ -29,6 +31,13 @@ inline LaneVec cross(const LaneVec& a, const LaneVec& b) {
 // mask ? a : b, component by component: a select, not a branch.
 inline LaneVec select(bool mask, const LaneVec& a, const LaneVec& b) {
   return {mask ? a.x : b.x, mask ? a.y : b.y, mask ? a.z : b.z};
+}
+// Element k of an array of 3-vectors stored x, y, z, x, y, z, … (as std::vector<Vec3> is).
+inline LaneVec load_lane(const double* xyz, std::size_t k) { return {xyz[3 * k], xyz[3 * k + 1], xyz[3 * k + 2]}; }
+inline void store_lane(double* xyz, std::size_t k, const LaneVec& v) {
+  xyz[3 * k] = v.x;
+  xyz[3 * k + 1] = v.y;
+  xyz[3 * k + 2] = v.z;
 }
 inline LaneVec times(const Mat3& m, const LaneVec& a) {
   return {m(0, 0) * a.x + m(0, 1) * a.y + m(0, 2) * a.z, m(1, 0) * a.x + m(1, 1) * a.y + m(1, 2) * a.z,

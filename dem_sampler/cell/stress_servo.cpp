@@ -33,7 +33,7 @@ StressServoResult servo_to_stress(DemCell& cell, const Mat3& target, const Stres
   StressServoResult result;
   Mat3 sum = Mat3::Zero();
   long in_window = 0, stalled = 0;
-  double reference = std::numeric_limits<double>::infinity();
+  double best = std::numeric_limits<double>::infinity();
   while (result.steps < settings.max_steps) {
     // Too little compression (σ above its tension-positive target) shrinks the cell.
     const Mat3 error = target - symmetric_part(cell.stress());
@@ -54,14 +54,9 @@ StressServoResult servo_to_stress(DemCell& cell, const Mat3& target, const Stres
       result.converged = true;
       return result;
     }
-    // Progress is judged against the residual when progress was last seen, not the running best:
-    // a servo closing 1 % per window is moving, and must not be stopped as if it had stalled.
-    if (result.residual < 0.95 * reference) {
-      reference = result.residual;
-      stalled = 0;
-    } else if (++stalled >= settings.patience) {
-      return result;
-    }
+    stalled = result.residual < 0.95 * best ? 0 : stalled + 1;
+    best = std::min(best, result.residual);
+    if (stalled >= settings.patience) return result;
     sum.setZero();
     in_window = 0;
   }

@@ -11,8 +11,8 @@
 // - Converged means: the mean of sym σ over the last `window` steps is within `tolerance` of the
 //   target in every component, at a check after at least `window` steps. The instantaneous stress
 //   of a small cell fluctuates with its grains' motion, so single steps are not trusted.
-// - It gives up after max_steps, or after `patience` windows in a row without closing 5 % of the
-//   residual it had when it last made such progress (a target the packing cannot carry). The cell is left where the servo stopped; the caller decides what to do with a
+// - It gives up after max_steps, or after `patience` windows without progress (a target the packing
+//   cannot carry). The cell is left where the servo stopped; the caller decides what to do with a
 //   failure (the result says how far it got).
 // - Throws std::invalid_argument on a non-finite or asymmetric target or non-positive settings, and
 //   std::runtime_error if the cell's stress becomes non-finite.

@@ -70,15 +70,17 @@ nlohmann::json run_bench(const BenchOptions& o) {
     const double per_point_step = seconds_since(start) * threads / static_cast<double>(o.live_points * o.live_steps);
     const long substeps = dem::substep_count(o.live_time_step, cell.time_step(settings.substepping.q_t),
                                              settings.substepping.q_n);
+    const double particle_steps = static_cast<double>(cell.size() * substeps) / per_point_step;
     result["live"] = {{"points", o.live_points}, {"steps", o.live_steps}, {"spheres", cell.size()},
                       {"time_step", o.live_time_step}, {"substeps", substeps},
                       {"verlet_pairs", cell.pair_count()}, {"interacting_pairs", cell.interacting_pairs()},
+                      {"particle_steps_per_second", particle_steps},
                       {"core_seconds_per_point_step", per_point_step}, {"reference_seconds_per_point_step", 16e-3}};
     std::printf("live DEM, %zu spheres, dt = %g s, %ld sub-steps: %.2f ms per point-step (core time); reference "
                 "implementation ~16 ms (125 spheres, ~104 sub-steps)\n",
                 cell.size(), o.live_time_step, substeps, 1e3 * per_point_step);
-    std::printf("the cell at rest: %zu Verlet pairs, %lld in contact or bonded\n", cell.pair_count(),
-                static_cast<long long>(cell.interacting_pairs()));
+    std::printf("  %.3g particle-steps/s; the cell at rest: %zu Verlet pairs, %lld in contact or bonded\n",
+                particle_steps, cell.pair_count(), static_cast<long long>(cell.interacting_pairs()));
   }
   return result;
 }

@@ -126,7 +126,8 @@ TEST(Retiling, ARetiledCellShearsLikeCellsTwiceAsLarge) {
     return std::abs(sum / count);
   };
   std::vector<double> fresh, retiled;
-  for (std::uint64_t seed : {41, 42, 43, 44}) fresh.push_back(mobilized_friction(prepare_cell(mat, test::small_spec(64, seed))));
+  for (std::uint64_t seed : {41, 42, 43, 44})
+    fresh.push_back(mobilized_friction(prepare_cell(mat, test::small_spec(64, seed))));
   for (std::uint64_t seed : {45, 46, 47, 48}) {
     const DemCell half = prepare_cell(mat, test::small_spec(32, seed));
     retiled.push_back(
