@@ -47,8 +47,8 @@ struct InteractionCoefficients {
 };
 
 // Every function below is a pure function of its arguments, free of branches on the data (a choice
-// between two computed values is a select): the force loop evaluates them for eight pairs at once and
-// masks out what does not apply to a pair.
+// between two computed values is a select): the force loop evaluates them for several pairs at once
+// (a SIMD register's worth) and masks out what does not apply to a pair.
 
 // Objectivity of tangential history (a tangential spring force or bond shear displacement): turn t
 // with the contact frame, i.e. bring it back into the plane normal to the new n and twist it about n

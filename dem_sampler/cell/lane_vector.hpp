@@ -1,6 +1,6 @@
-// A 3-vector of plain doubles, the type the vectorized force loop and the interaction law compute
-// with: one pair's vector, held in three SIMD lanes' worth of registers when eight pairs advance at
-// once. Eigen stays outside that loop because its expression templates build temporaries holding
+// A 3-vector of plain doubles, the type the vectorized loops and the interaction law compute with:
+// when several pairs (or spheres) advance at once, each vector is one lane of three SIMD registers.
+// Eigen stays outside those loops because its expression templates build temporaries holding
 // references, which the vectorizer cannot give each lane.
 #pragma once
 #include <cstddef>
