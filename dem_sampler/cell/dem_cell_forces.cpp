@@ -54,7 +54,7 @@ void store_column(double* const (&c)[3], std::size_t k, const LaneVec& v) {
 
 // Flattened: the vectorizer sees only a loop body with every call (the law, the lane arithmetic) inlined.
 template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
-[[gnu::flatten]] void DemCell::compute_forces(double dt) {
+GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
   std::fill(force_.begin(), force_.end(), Vec3::Zero());
   std::fill(torque_.begin(), torque_.end(), Vec3::Zero());
   const Mat3 L = L_;

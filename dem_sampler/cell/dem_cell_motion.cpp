@@ -43,7 +43,7 @@ struct Kick {
 }  // namespace
 
 template <bool Damped>
-[[gnu::flatten]] double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new) {
+GRAINBANK_VECTOR_LOOP double DemCell::kick_and_drift(double dt, const Mat3& L, const Mat3& h_mid_inv, const Mat3& h_new) {
   const Kick kick{u_.data()->data(), omega_.data()->data(), force_.data()->data(), torque_.data()->data(),
                   inv_mass_.data(), inv_inertia_.data(), 0.5 * dt, local_damping_, L.transpose()};
   double *s = s_.data()->data(), *x = x_.data()->data();
@@ -62,7 +62,7 @@ template <bool Damped>
 }
 
 template <bool Damped>
-[[gnu::flatten]] void DemCell::kick(double half_dt, const Mat3& L) {
+GRAINBANK_VECTOR_LOOP void DemCell::kick(double half_dt, const Mat3& L) {
   const Kick kick{u_.data()->data(), omega_.data()->data(), force_.data()->data(), torque_.data()->data(),
                   inv_mass_.data(), inv_inertia_.data(), half_dt, local_damping_, L.transpose()};
   const std::size_t n = radius_.size();

@@ -7,6 +7,14 @@
 
 #include "dem_sampler/cell/types.hpp"
 
+// The vectorized loops' attribute. A portable build (GRAINBANK_NATIVE off, on x86-64) compiles them
+// twice, for AVX2 with FMA and for the baseline, and picks one when the program starts.
+#if defined(GRAINBANK_KERNEL_CLONES)
+#define GRAINBANK_VECTOR_LOOP [[gnu::flatten, gnu::target_clones("arch=x86-64-v3", "default")]]
+#else
+#define GRAINBANK_VECTOR_LOOP [[gnu::flatten]]
+#endif
+
 namespace grainbank::dem {
 
 struct LaneVec {
