@@ -373,9 +373,8 @@ std::int64_t DemCell::create_bonds(double bonding_distance) {
   update_positions();
   std::int64_t count = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
-    const double rsum = radius_[i] + radius_[j];
-    const double gap = (x_[j] - x_[i] + shift_[pairs_.image[k]]).norm() - rsum;
+    const double rsum = radius_[pairs_.i[k]] + radius_[pairs_.j[k]];
+    const double gap = branch(k).norm() - rsum;
     if (gap < bonding_distance * rsum) {
       for (auto& c : pairs_.bond_shear) c[k] = 0;
       pairs_.bond_rest_gap[k] = gap;
@@ -390,9 +389,8 @@ std::int64_t DemCell::create_bonds(double bonding_distance) {
 std::size_t DemCell::contact_count() const {
   std::size_t c = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
-    const double rsum = radius_[i] + radius_[j];
-    if ((x_[j] - x_[i] + shift_[pairs_.image[k]]).squaredNorm() < rsum * rsum) ++c;
+    const double rsum = radius_[pairs_.i[k]] + radius_[pairs_.j[k]];
+    if (branch(k).squaredNorm() < rsum * rsum) ++c;
   }
   return c;
 }
@@ -400,9 +398,8 @@ std::size_t DemCell::contact_count() const {
 double DemCell::max_overlap() const {
   double largest = 0;
   for (std::size_t k = 0; k < pairs_.size(); ++k) {
-    const std::uint32_t i = pairs_.i[k], j = pairs_.j[k];
-    const double rsum = radius_[i] + radius_[j];
-    largest = std::max(largest, 1 - (x_[j] - x_[i] + shift_[pairs_.image[k]]).norm() / rsum);
+    const double rsum = radius_[pairs_.i[k]] + radius_[pairs_.j[k]];
+    largest = std::max(largest, 1 - branch(k).norm() / rsum);
   }
   return largest;
 }

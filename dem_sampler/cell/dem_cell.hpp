@@ -139,6 +139,8 @@ class DemCell {
   // max_displacement2: largest squared fluctuation displacement since the last rebuild.
   bool list_is_stale(double max_displacement2) const;
   void rebuild_list();
+  // Branch vector ℓ of Verlet pair k, from i to the listed image of j, at the current positions.
+  Vec3 branch(std::size_t k) const { return x_[pairs_.j[k]] - x_[pairs_.i[k]] + shift_[pairs_.image[k]]; }
   // Shift code of the periodic image of j nearest to i.
   int closest_image(std::uint32_t i, std::uint32_t j) const;
   // Flips to a reduced basis if due; returns M (identity if nothing changed).

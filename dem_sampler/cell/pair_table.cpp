@@ -37,37 +37,29 @@ PairTable PairTable::from_rows(const std::vector<Pair>& pairs, const std::vector
   return t;
 }
 
-Pair PairTable::pair(std::size_t k) const {
-  Pair p;
-  p.i = i[k];
-  p.j = j[k];
-  p.image = image[k];
-  p.damping = damping[k];
-  p.ft = Vec3(ft[0][k], ft[1][k], ft[2][k]);
-  return p;
-}
-
-Bond PairTable::bond(std::size_t k) const {
-  return Bond{Vec3(bond_shear[0][k], bond_shear[1][k], bond_shear[2][k]), bond_rest_gap[k], bond_intact[k] != 0};
-}
-
-Vec3 PairTable::rolling_moment(std::size_t k) const { return Vec3(rolling[0][k], rolling[1][k], rolling[2][k]); }
-
 std::vector<Pair> PairTable::pair_rows() const {
   std::vector<Pair> rows(size());
-  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = pair(k);
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    Pair& p = rows[k];
+    p.i = i[k];
+    p.j = j[k];
+    p.image = image[k];
+    p.damping = damping[k];
+    p.ft = Vec3(ft[0][k], ft[1][k], ft[2][k]);
+  }
   return rows;
 }
 
 std::vector<Bond> PairTable::bond_rows() const {
   std::vector<Bond> rows(has_bonds() ? size() : 0);
-  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = bond(k);
+  for (std::size_t k = 0; k < rows.size(); ++k)
+    rows[k] = Bond{Vec3(bond_shear[0][k], bond_shear[1][k], bond_shear[2][k]), bond_rest_gap[k], bond_intact[k] != 0};
   return rows;
 }
 
 std::vector<Vec3> PairTable::rolling_rows() const {
   std::vector<Vec3> rows(has_rolling() ? size() : 0);
-  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = rolling_moment(k);
+  for (std::size_t k = 0; k < rows.size(); ++k) rows[k] = Vec3(rolling[0][k], rolling[1][k], rolling[2][k]);
   return rows;
 }
 

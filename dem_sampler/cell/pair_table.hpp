@@ -28,9 +28,6 @@ struct PairTable {
   // Rows to columns. `bonds` and `rolling` are parallel to `pairs` or empty (effect off).
   static PairTable from_rows(const std::vector<Pair>& pairs, const std::vector<Bond>& bonds,
                              const std::vector<Vec3>& rolling);
-  Pair pair(std::size_t k) const;
-  Bond bond(std::size_t k) const;
-  Vec3 rolling_moment(std::size_t k) const;
   std::vector<Pair> pair_rows() const;
   std::vector<Bond> bond_rows() const;          // empty without bonds
   std::vector<Vec3> rolling_rows() const;       // empty without rolling

@@ -135,8 +135,9 @@ TEST(Retiling, ARetiledCellShearsLikeCellsTwiceAsLarge) {
   }
   auto mean = [](const std::vector<double>& v) { return std::accumulate(v.begin(), v.end(), 0.0) / v.size(); };
   auto variance_of_mean = [&](const std::vector<double>& v) {
+    const double m = mean(v);
     double s2 = 0;
-    for (double x : v) s2 += (x - mean(v)) * (x - mean(v));
+    for (double x : v) s2 += (x - m) * (x - m);
     return s2 / (v.size() - 1) / v.size();
   };
   const double standard_error = std::sqrt(variance_of_mean(fresh) + variance_of_mean(retiled));
