@@ -40,3 +40,45 @@ class LubeValidationTest(WorkflowTest):
         run([BUILD / "mpm_solver" / "mpm_solver", out, "--out", self.out / "mu_i", "--threads", "1",
              "--set", "/time/end=0.03"])
         self.assertTrue((self.out / "mu_i" / "summary.json").exists())
+
+
+class LiveLubeTest(WorkflowTest):
+    """live_study.py: the column with live DEM cells and its Drucker–Prager twin."""
+
+    def test_smoke_study(self):
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "live_study.py", self.out, "--smoke", "--build", BUILD])
+        results = self.assert_json_fields(self.out / "live.json", [])
+        self.assertEqual([r["case"] for r in results], ["live_smoke"])
+        r = results[0]
+        cell = json.loads((self.out / "live_smoke" / "cell.json").read_text())
+        self.assertEqual(cell["material"]["friction"], 0.5)
+        self.assertNotIn("bond", cell["material"])  # cohesionless
+        self.assertEqual(cell["preparation"]["spheres"], 27)
+        summary = json.loads((self.out / "live_smoke" / "run" / "summary.json").read_text())
+        self.assertEqual(summary["coupling"]["laws"][0]["law"], "live")
+        self.assertGreater(summary["coupling"]["point_steps"], 0)
+        # Measured at the run's end, past the gate: nothing behind the wall, nothing above the top.
+        self.assertFalse(r["at_rest"])
+        self.assertGreaterEqual(r["rest_time"], 0.05)
+        self.assertGreaterEqual(r["runout"], -r["h"] / 0.2)
+        self.assertLessEqual(r["final_height"], 1.0 + 1e-3)
+        self.assertIn("Drucker–Prager twin", (self.out / "live.md").read_text())
+        self.assert_png(self.out / "live.png")
+
+    def test_twin_friction_is_the_cells_critical_state(self):
+        """The twin's cone: sin φ is the μ_s of the cell's μ(I) fit, which lies in the published
+        range for spheres with μ_p = 0.5 within the fit's own scatter; its moduli are the cell's."""
+        import math
+        import sys
+        sys.path.insert(0, str(WORKFLOWS / "lube_validation"))
+        import live_study
+        twin = live_study.twin_material()
+        mu_s = math.sin(math.radians(twin["friction_angle"]))
+        self.assertAlmostEqual(mu_s, live_study.critical_state_ratio(), places=12)
+        self.assertGreater(mu_s, 0.32)
+        self.assertLess(mu_s, 0.40)
+        young, poisson, solid_fraction = live_study.cell_elasticity()
+        self.assertEqual((twin["young"], twin["poisson"]), (young, poisson))
+        self.assertGreater(poisson, 0)
+        self.assertLess(poisson, 0.5)
+        self.assertAlmostEqual(twin["density"], 920 * solid_fraction)

@@ -21,9 +21,18 @@ def lube_runout(a):
     return 1.2 * a if a <= 1.8 else 1.9 * a ** (2.0 / 3.0)
 
 
-def p_wave_modulus():
-    lam = YOUNG * POISSON / ((1 + POISSON) * (1 - 2 * POISSON))
-    return lam + YOUNG / (1 + POISSON)
+def p_wave_modulus(young=YOUNG, poisson=POISSON):
+    lam = young * poisson / ((1 + poisson) * (1 - 2 * poisson))
+    return lam + young / (1 + poisson)
+
+
+def drucker_prager(friction_angle=FRICTION_ANGLE, density=DENSITY, young=YOUNG, poisson=POISSON, rheology=None):
+    """The column's material: a cohesionless Drucker–Prager cone (the study's sand by default)."""
+    out = {"name": "sand", "law": "drucker_prager", "density": density, "young": young, "poisson": poisson,
+           "friction_angle": friction_angle}
+    if rheology:
+        out["inertial_rheology"] = rheology
+    return out
 
 
 DEFAULT_TRANSFER = {"apic_flip": {"pic_rate": 5.0}}  # the solver's default
@@ -33,20 +42,20 @@ JOP_RHEOLOGY = {"mu_2": math.sin(math.radians(FRICTION_ANGLE)) + 0.26, "inertial
                 "grain_diameter": 0.53e-3, "grain_density": 2450.0}
 
 
-def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER, rheology=None):
+def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER, rheology=None,
+          material=None, p_wave=None, gate=GATE_REMOVAL):
+    """The column scene; `material` (named "sand") replaces the Drucker–Prager sand, and `p_wave`, its
+    P-wave modulus, sets the stiffness of base and walls."""
     L0, H0 = width, a * width
     base = wall = 2 * h
     cells_x = math.ceil((wall + L0 * (1 + 2 * lube_runout(a)) + 2 * h) / h)
     cells_y = math.ceil((base + H0 + 2 * h) / h)
     # Base and walls as stiff as the material over one cell: sqrt(k_n / m_p) = c_p / h.
-    k_n = p_wave_modulus() / ppc**2
+    k_n = (p_wave or p_wave_modulus()) / ppc**2
     top = base + H0 + h
     contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
     end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
-    sand = {"name": "sand", "law": "drucker_prager", "density": DENSITY, "young": YOUNG, "poisson": POISSON,
-            "friction_angle": FRICTION_ANGLE}
-    if rheology:
-        sand["inertial_rheology"] = rheology
+    sand = material or drucker_prager(rheology=rheology)
     return {
         "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
         "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
@@ -59,7 +68,7 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANS
         "obstacles": [
             {"line": [[-1, base], [cells_x * h + 1, base]], **contact(0.5)},
             {"line": [[wall, base], [wall, top]], **contact(0.3)},
-            {"line": [[wall + L0, base], [wall + L0, top]], **contact(0.3), "remove_at": GATE_REMOVAL},
+            {"line": [[wall + L0, base], [wall + L0, top]], **contact(0.3), "remove_at": gate},
         ],
     }
 

@@ -56,36 +56,45 @@ def at_rest(series, gate):
     return None
 
 
-def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
-    folder = out / name
+def run_scene(folder, scene, build, threads):
+    """Runs mpm_solver on `scene` in `folder`; CPU and wall seconds."""
     folder.mkdir(parents=True, exist_ok=True)
     scene_file = folder / "scene.json"
-    scene_file.write_text(json.dumps(column_scene.scene(
-        a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None), indent=2) + "\n")
+    scene_file.write_text(json.dumps(scene, indent=2) + "\n")
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.monotonic()
     subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(folder / "run"),
                     "--threads", str(threads)], check=True, stdout=subprocess.DEVNULL)
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return {"cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
+            "wall_s": time.monotonic() - start}
+
+
+def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, settled=None):
+    """Runout, final height and deposit of the run in `folder`, at rest (or, when `settled` is given,
+    at the row of that index: a run that never reaches REST)."""
     series = read_csv(folder / "run" / "series.csv")
     g = column_scene.geometry(a, WIDTH, h, ppc)
-    k = at_rest(series, column_scene.GATE_REMOVAL)
-    result = {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i,
-              "cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
-              "wall_s": time.monotonic() - start, "steps": int(series["step"][-1]),
-              "lube_runout": column_scene.lube_runout(a)}
+    k = at_rest(series, gate) if settled is None else settled(series)
+    result = {"steps": int(series["step"][-1]), "lube_runout": column_scene.lube_runout(a)}
     if k is None:
-        result.update(at_rest=False, rest_time=None, runout=None, final_height=None)
-    else:
-        front = series["front"][k] + g["radius"]
-        height = series["max_height"][k] + g["radius"]
-        runout = (front - g["wall"] - g["L0"]) / g["L0"]
-        x, profile = deposit.profile(folder / "run", g, h)
-        result.update(at_rest=True, rest_time=float(series["t"][k]), runout=float(runout),
-                      final_height=float((height - g["base"]) / g["H0"]),
-                      runout_error=float(runout / column_scene.lube_runout(a) - 1),
-                      edges=deposit.edges(x, profile), profile={"x": x.tolist(), "height": profile.tolist()})
-    return result
+        return {**result, "at_rest": False, "rest_time": None, "runout": None, "final_height": None}
+    front = series["front"][k] + g["radius"]
+    height = series["max_height"][k] + g["radius"]
+    runout = (front - g["wall"] - g["L0"]) / g["L0"]
+    x, profile = deposit.profile(folder / "run", g, h)
+    return {**result, "at_rest": True, "rest_time": float(series["t"][k]), "runout": float(runout),
+            "final_height": float((height - g["base"]) / g["H0"]),
+            "runout_error": float(runout / column_scene.lube_runout(a) - 1),
+            "edges": deposit.edges(x, profile), "profile": {"x": x.tolist(), "height": profile.tolist()}}
+
+
+def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
+    folder = out / name
+    scene = column_scene.scene(a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None)
+    cost = run_scene(folder, scene, build, threads)
+    return {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i, **cost,
+            **measure(folder, a, h, ppc)}
 
 
 def table(results):

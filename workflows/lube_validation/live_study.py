@@ -1,0 +1,186 @@
+"""The planar column collapse of Lube et al. (2005) with live DEM cells (issue 18): every material point
+answered by its own 3D periodic cell of frictional, unbonded spheres (μ_p = 0.5, the dense cell of
+workflows/cell_response), at aspect ratios a = 0.5, 1 and 2, against Lube's law and against the
+Drucker–Prager column made of the same material:
+- its friction angle from the cell's critical-state stress ratio, sin φ = μ_s: at steady isochoric
+  (critical-state) flow a Drucker–Prager cone in plane strain has τ/σ = sin φ on the planes of zero
+  extension (Davis 1968), which are the shear planes of the cell's rheometer, whose μ(I) fit gives μ_s
+  (cell_response/results/mu_of_i.csv);
+- its elastic moduli those of the cell (cell_response/results/moduli.csv, dense, 1 kPa), its density
+  the cell's, φ ρ_s.
+The gate is removed later than in study.py, once the cells, prepared isotropically at P0, have settled
+into the column's own weight. A second packing seed at a = 1 gives the noise floor. Measured at rest
+(kinetic energy below REST of its peak), or, for a run that never gets there, at its end (flagged).
+
+  /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke]
+
+Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md and OUT/live.png. --smoke runs a
+two-point-wide column of 27-sphere cells for a few milliseconds past the gate (the CI test).
+"""
+import argparse
+import csv
+import json
+import math
+import statistics
+import sys
+from pathlib import Path
+
+import column_scene
+import study
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+sys.path.insert(0, str(HERE.parent / "cell_response"))
+from plotting import environment  # noqa: E402
+from plotting.figures import plt, DPI  # noqa: E402
+import moduli  # noqa: E402  (the cell)
+import mu_of_i  # noqa: E402  (its critical state)
+
+CELL_RESULTS = HERE.parent / "cell_response" / "results"
+PREPARATION_PRESSURE = 500  # [Pa], about the mean weight of the a = 1 column
+GATE = 0.05  # [s]
+H, PPC = 0.02, 1  # L0/h = 10, one point (one cell) per grid cell
+
+
+def critical_state_ratio():
+    """μ_s of the μ(I) fit to the committed rheometer results."""
+    with (CELL_RESULTS / "mu_of_i.csv").open() as f:
+        rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
+    means = mu_of_i.summary(rows)
+    return mu_of_i.fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])[0]
+
+
+def cell_elasticity():
+    """(E, ν, φ) of the dense cell at 1 kPa, seed means of the committed moduli study."""
+    with (CELL_RESULTS / "moduli.csv").open() as f:
+        rows = [r for r in csv.DictReader(f) if r["preparation"] == "dense" and float(r["pressure"]) == 1000]
+    k = statistics.mean(float(r["K"]) for r in rows)
+    g = statistics.mean(float(r["G_pure_shear"]) for r in rows)
+    return 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g)), statistics.mean(float(r["phi"]) for r in rows)
+
+
+def twin_material():
+    """The Drucker–Prager material of the cell: φ from μ_s, moduli and density of the cell."""
+    young, poisson, solid_fraction = cell_elasticity()
+    angle = math.degrees(math.asin(critical_state_ratio()))
+    return column_scene.drucker_prager(angle, solid_fraction * moduli.MATERIAL["density"], young, poisson)
+
+
+def live_material(cell_file):
+    return {"name": "sand", "law": "live", "cell": cell_file, "retiling": {"max_spheres": 1000}}
+
+
+def cases(smoke):
+    """(name, law, aspect ratio, packing seed, spheres, h, points per cell)."""
+    if smoke:
+        return [("live_smoke", "live", 1.0, 1, 27, 0.1, 1)]
+    out = [(f"live_a{a:g}", "live", a, 1, 125, H, PPC) for a in (0.5, 1.0, 2.0)]
+    out += [("live_a1_seed2", "live", 1.0, 2, 125, H, PPC)]
+    out += [(f"dp_a{a:g}", "drucker_prager", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
+    out += [(f"dp_a{a:g}_h0.01_ppc2", "drucker_prager", a, None, None, 0.01, 2) for a in (0.5, 1.0, 2.0)]
+    return out
+
+
+def end_time(a, smoke):
+    return GATE + 0.01 if smoke else GATE + 6 * math.sqrt(a * study.WIDTH / 9.81) + 0.1
+
+
+def earliest_rest(a):
+    """No collapse is over within 2 sqrt(H0/g) of the gate: before, a quiet row is the settled column."""
+    return GATE + 2 * math.sqrt(a * study.WIDTH / 9.81)
+
+
+def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
+    if law == "live":
+        folder.mkdir(parents=True, exist_ok=True)
+        (folder / "cell.json").write_text(json.dumps(
+            moduli.cell_spec(seed, PREPARATION_PRESSURE, spheres, "dense"), indent=2) + "\n")
+        young, poisson, _ = cell_elasticity()
+        material = live_material("cell.json")
+    else:
+        material = twin_material()
+        young, poisson = material["young"], material["poisson"]
+    scene = column_scene.scene(a, study.WIDTH, h, ppc, end=end_time(a, smoke), material=material,
+                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE)
+    scene["time"]["stop_at_rest"] = {"kinetic_energy_fraction": study.REST, "not_before": earliest_rest(a)}
+    return scene
+
+
+def last_row(series):
+    return len(series["t"]) - 1
+
+
+def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
+    folder = out / name
+    cost = study.run_scene(folder, case_scene(folder, law, a, seed, spheres, h, ppc, smoke), build, threads)
+    result = study.measure(folder, a, h, ppc, earliest_rest(a))
+    if not result["at_rest"]:
+        result = {**study.measure(folder, a, h, ppc, settled=last_row), "at_rest": False}
+    result = {"case": name, "law": law, "a": a, "seed": seed, "spheres": spheres, "h": h, "points_per_cell": ppc,
+              **cost, **result}
+    (folder / "result.json").write_text(json.dumps(result, indent=2) + "\n")
+    return result
+
+
+def table(results, twin):
+    lines = [f"Drucker–Prager twin: φ = {twin['friction_angle']:.1f}° (sin φ = μ_s), E = {twin['young'] / 1e6:.2f} MPa, "
+             f"ν = {twin['poisson']:.3f}, ρ = {twin['density']:.0f} kg/m³\n",
+             "| case | a | L0/h | ppc | measured at [s] | ΔL/L0 (front) | edge 5 % H0 | edge 10 % H0 | edge 15 % H0 | "
+             "Lube | H∞/H0 | CPU [s] |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in results:
+        when = f"{r['rest_time']:.2f}" + ("" if r["at_rest"] else " (end, not at rest)")
+        lines.append(f"| {r['case']} | {r['a']:g} | {study.WIDTH / r['h']:.0f} | {r['points_per_cell']} | {when} | "
+                     f"{r['runout']:.2f} | " + "".join(f"{e:.2f} | " for e in r["edges"].values())
+                     + f"{r['lube_runout']:.2f} | {r['final_height']:.2f} | {r['cpu_s']:.0f} |")
+    return "\n".join(lines) + "\n"
+
+
+def plot(results, file):
+    import numpy as np
+    a = np.linspace(0.3, 2.3, 200)
+    fig, ax = plt.subplots(figsize=(5, 4))
+    ax.plot(a, [column_scene.lube_runout(x) for x in a], "k-", label="Lube et al. 2005")
+    ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
+                    color="0.85", label="±30 %")
+    styles = {("live", H): ("o", "live DEM cells"), ("drucker_prager", H): ("s", "Drucker–Prager twin"),
+              ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc")}
+    for (law, h), (marker, label) in styles.items():
+        runs = [r for r in results if r["law"] == law and r["h"] == h]
+        if runs:
+            ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker, label=f"{label}: front")
+            ax.plot([r["a"] for r in runs], [r["edges"]["0.1"] for r in runs], marker, mfc="none",
+                    label=f"{label}: edge at 10 % of H0")
+    ax.set_xlabel("aspect ratio a = H0/L0")
+    ax.set_ylabel("runout ΔL/L0")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(file, dpi=DPI)
+    plt.close(fig)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("lube_live"))
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--cases", nargs="+", help="run only these cases (names as in the table)")
+    parser.add_argument("--smoke", action="store_true")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    chosen = [c for c in cases(args.smoke) if not args.cases or c[0] in args.cases]
+    if not chosen:
+        sys.exit(f"live_study.py: --cases: expected names among {[c[0] for c in cases(args.smoke)]}")
+    for case in chosen:
+        result = run_case(args.out, args.build.resolve(), args.threads, *case, args.smoke)
+        print(json.dumps({k: v for k, v in result.items() if k != "profile"}), flush=True)
+    # Every finished case, this call's and earlier ones' (the cases may run as separate calls side by side).
+    results = [json.loads(f.read_text()) for c in cases(args.smoke) if (f := args.out / c[0] / "result.json").exists()]
+    (args.out / "live.json").write_text(json.dumps(results, indent=2) + "\n")
+    twin = twin_material()
+    (args.out / "live.md").write_text(table(results, twin))
+    plot(results, args.out / "live.png")
+    print(table(results, twin), end="")
+
+
+if __name__ == "__main__":
+    main()
