@@ -136,22 +136,11 @@ def table(results, twin):
 
 
 def plot(results, file):
-    import numpy as np
-    a = np.linspace(0.3, 2.3, 200)
-    fig, ax = plt.subplots(figsize=(5, 4))
-    ax.plot(a, [column_scene.lube_runout(x) for x in a], "k-", label="Lube et al. 2005")
-    ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
-                    color="0.85", label="±30 %")
+    fig, ax = study.lube_axes(2.0)
     styles = {("live", H): ("o", "live DEM cells"), ("drucker_prager", H): ("s", "Drucker–Prager twin"),
               ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc")}
     for (law, h), (marker, label) in styles.items():
-        runs = [r for r in results if r["law"] == law and r["h"] == h]
-        if runs:
-            ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker, label=f"{label}: front")
-            ax.plot([r["a"] for r in runs], [r["edges"]["0.1"] for r in runs], marker, mfc="none",
-                    label=f"{label}: edge at 10 % of H0")
-    ax.set_xlabel("aspect ratio a = H0/L0")
-    ax.set_ylabel("runout ΔL/L0")
+        study.draw_runouts(ax, [r for r in results if r["law"] == law and r["h"] == h], marker, label)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(file, dpi=DPI)

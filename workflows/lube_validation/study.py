@@ -114,26 +114,36 @@ def table(results):
     return "\n".join(lines) + "\n"
 
 
-def plot(results, file):
+def lube_axes(largest_a):
+    """A runout figure with Lube's law and its ±30 % band drawn, up to a = largest_a."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     import numpy as np
-    a = np.linspace(0.3, 3.3, 200)
+    a = np.linspace(0.3, largest_a + 0.3, 200)
     fig, ax = plt.subplots(figsize=(5, 4))
     ax.plot(a, [column_scene.lube_runout(x) for x in a], "k-", label="Lube et al. 2005")
     ax.fill_between(a, [0.7 * column_scene.lube_runout(x) for x in a], [1.3 * column_scene.lube_runout(x) for x in a],
                     color="0.85", label="±30 %")
-    for h, marker in ((0.02, "s"), (0.01, "o"), (0.005, "^")):
-        runs = [r for r in results if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2 and r["cfl"] == 0.3
-                and not r["inertial_rheology"]]
-        if runs:
-            ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker,
-                    label=f"front, h = {h:g} m (L0/h = {WIDTH / h:.0f})")
-            ax.plot([r["a"] for r in runs], [r["edges"]["0.1"] for r in runs], marker, mfc="none",
-                    label=f"edge at 10 % of H0, h = {h:g} m")
     ax.set_xlabel("aspect ratio a = H0/L0")
     ax.set_ylabel("runout ΔL/L0")
+    return fig, ax
+
+
+def draw_runouts(ax, runs, marker, label):
+    """The runs' fronts (filled) and deposit edges at 10 % of H0 (open) against their aspect ratios."""
+    if runs:
+        ax.plot([r["a"] for r in runs], [r["runout"] for r in runs], marker, label=f"front, {label}")
+        ax.plot([r["a"] for r in runs], [r["edges"]["0.1"] for r in runs], marker, mfc="none",
+                label=f"edge at 10 % of H0, {label}")
+
+
+def plot(results, file):
+    fig, ax = lube_axes(3.0)
+    for h, marker in ((0.02, "s"), (0.01, "o"), (0.005, "^")):
+        draw_runouts(ax, [r for r in results if r["at_rest"] and r["h"] == h and r["points_per_cell"] == 2
+                          and r["cfl"] == 0.3 and not r["inertial_rheology"]], marker,
+                     f"h = {h:g} m (L0/h = {WIDTH / h:.0f})")
     ax.legend(fontsize=8)
     fig.tight_layout()
     fig.savefig(file, dpi=120)

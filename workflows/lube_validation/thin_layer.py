@@ -47,7 +47,7 @@ def main():
     parser.add_argument("--thickness", type=float, default=0.02)
     parser.add_argument("--transfers", nargs="+", default=["apic", "apic_flip:5"])
     args = parser.parse_args()
-    print(f"| transfer | T/h | spread of each end / T |  (Lube, small a: 1.2)\n|---|---|---|")
+    print("| transfer | T/h | spread of each end / T |  (Lube, small a: 1.2)\n|---|---|---|")
     for text in args.transfers:
         for cells in (2, 4, 8):
             h = args.thickness / cells
