@@ -9,13 +9,13 @@ import math
 import shutil
 import xml.etree.ElementTree as ET
 
-from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run
+from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run, run_rigid_translation
 
 from plotting import flow, run_compare, tables, vtu
 
 
-ERRORS = ["front_rel_err", "runout_rel_err", "stress_rel_l2", "deposit_rms_m"]
-AGAINST_NOISE = ["front_rel_err", "stress_rel_l2", "deposit_rms_m"]
+ERRORS = ["front_rel_err", "runout_rel_err", "stress_rel_l2", "deposit_rms_m", "mass_edge_rel_err", "centroid_rel_err"]
+AGAINST_NOISE = ["front_rel_err", "stress_rel_l2", "deposit_rms_m", "mass_edge_rel_err", "centroid_rel_err"]
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", *ERRORS,
            *(f"{key}_over_noise" for key in AGAINST_NOISE), "failed"]
 
@@ -43,7 +43,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertGreater(float(noise["stress_rel_l2"]), 0.0)
         # Every error is stated over the noise floor's: the noise floor is 1 against itself, live 0.
         for key in AGAINST_NOISE:
-            if float(noise[key]) > 0:
+            if noise[key] and float(noise[key]) > 0:
                 self.assertAlmostEqual(float(noise[f"{key}_over_noise"]), 1.0)
                 self.assertEqual(float(rows["live"][f"{key}_over_noise"]), 0.0)
                 for r in rows.values():
@@ -124,9 +124,23 @@ class AccuracyVsTimeTest(WorkflowTest):
         (stopped / "series.csv").write_text("\n".join(kept) + "\n")
 
         errors = run_compare.errors(stopped, reference)
-        self.assertIn(errors.pop("runout_rel_err"), (None, 0.0))  # None: the tiny column ran out < 1 cm
+        for key in ("runout_rel_err", "mass_edge_rel_err", "centroid_rel_err"):
+            self.assertIn(errors.pop(key), (None, 0.0))  # None: the tiny column moved < 1 cm
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "deposit_rms_m": 0.0})
         # Not zero by accident: past the stop the reference's stress field still changes.
         snapshots = {round(s.time, 9): s for s in vtu.read_run(reference)}
         last_before_stop = max(t for t in snapshots if t <= stop)
         self.assertGreater(flow.stress_error(snapshots[max(snapshots)], snapshots[last_before_stop]), 0.0)
+
+    def test_bulk_errors_of_a_faster_rigid_translation(self):
+        # Blocks translated at 1.0 and 1.1 m/s: every advance is v t, so each bulk error is 10 %; at
+        # 0.02 s the reference has moved 2 cm, past the 1 cm below which no error is stated.
+        for name in ("reference", "faster"):
+            (self.out / name).mkdir()
+        reference = run_rigid_translation(self.out / "reference", speed=1.0, end=0.02)
+        faster = run_rigid_translation(self.out / "faster", speed=1.1, end=0.02)
+        errors = run_compare.errors(faster, reference)
+        self.assertAlmostEqual(errors["mass_edge_rel_err"], 0.1, delta=1e-6)
+        self.assertAlmostEqual(errors["centroid_rel_err"], 0.1, delta=1e-6)
+        self.assertAlmostEqual(errors["runout_rel_err"], 0.1, delta=1e-6)
+        self.assertEqual(run_compare.errors(reference, reference)["centroid_rel_err"], 0.0)

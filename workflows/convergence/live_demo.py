@@ -7,8 +7,6 @@ import math
 import statistics
 from pathlib import Path
 
-import numpy as np
-
 from plotting import flow, run_compare, scenes, tables, vtu
 
 HERE = Path(__file__).resolve().parent
@@ -51,9 +49,6 @@ def runout_at(series, t):
     return float(flow.runout(series)[min(range(len(series["t"])), key=lambda k: abs(series["t"][k] - t))])
 
 
-# The share of the mass behind the mass edge: the front is the farthest point, so a few stress-free
-# points sliding ahead of the toe set it; the mass edge and the centroid follow the bulk.
-MASS_EDGE_QUANTILE = 0.95
 # What a run is measured by: how far the column has gone along x since the start [m].
 MEASURES = {"runout_m": "runout (front)", "mass_edge_advance_m": "advance of the 95 % mass edge",
             "centroid_advance_m": "advance of the centroid"}
@@ -66,15 +61,11 @@ def measures_at(run_folder, times):
     series_file = Path(run_folder) / "series.csv"
     series = tables.read_csv(series_file) if series_file.exists() else None
     snapshots = vtu.read_run(run_folder)
-    x0 = snapshots[0].xy[:, 0]
     measures = {}
     for t in times:
         at_t = next((s for s in snapshots if abs(s.time - t) < 1e-9), None)
-        x = None if at_t is None else at_t.xy[:, 0]
-        measures[t] = {"runout_m": runout_at(series, t),
-                       "mass_edge_advance_m": None if x is None else
-                       float(np.quantile(x, MASS_EDGE_QUANTILE) - np.quantile(x0, MASS_EDGE_QUANTILE)),
-                       "centroid_advance_m": None if x is None else float(x.mean() - x0.mean())}
+        edge, centroid = (None, None) if at_t is None else flow.bulk_advance(at_t, snapshots[0])
+        measures[t] = {"runout_m": runout_at(series, t), "mass_edge_advance_m": edge, "centroid_advance_m": centroid}
     return measures
 
 

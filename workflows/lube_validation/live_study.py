@@ -9,7 +9,8 @@ Drucker–Prager column made of the same material:
 - its elastic moduli those of the cell (cell_response/results/moduli.csv, dense, 1 kPa), its density
   the cell's, φ ρ_s.
 The gate is removed later than in study.py, once the cells, prepared isotropically at P0, have settled
-into the column's own weight. A second packing seed at a = 1 gives the noise floor. Measured at rest
+into the column's own weight. A second packing seed at a = 1 gives the noise floor, and
+cells of 64 and 250 spheres the effect of the cell's size. Measured at rest
 (kinetic energy below REST of its peak), or, for a run that never gets there, at its end (flagged).
 
   /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke]
@@ -76,6 +77,7 @@ def cases(smoke):
         return [("live_smoke", "live", 1.0, 1, 27, 0.1, 1)]
     out = [(f"live_a{a:g}", "live", a, 1, 125, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [("live_a1_seed2", "live", 1.0, 2, 125, H, PPC)]
+    out += [(f"live_a1_n{n}", "live", 1.0, 1, n, H, PPC) for n in (64, 250)]
     out += [(f"dp_a{a:g}", "drucker_prager", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [(f"dp_a{a:g}_h0.01_ppc2", "drucker_prager", a, None, None, 0.01, 2) for a in (0.5, 1.0, 2.0)]
     return out

@@ -2,7 +2,9 @@
 same scene: front = worst relative runout error (rows with a reference runout above 1 cm), runout =
 relative error of the final runout (None when the reference ran out less than 1 cm), stress = mean relative L2 of the in-plane stress field (points
 matched by id, by nearest position when the discretisation differs), deposit = RMS difference of the
-free-surface height at the last common output [m]."""
+free-surface height at the last common output [m], mass edge and centroid = relative errors of the
+advance of the 95 % mass edge and of the centroid there (None when the reference's moved less than 1 cm):
+the bulk measures, which converge with the grid where the front does not."""
 import json
 from pathlib import Path
 
@@ -43,10 +45,18 @@ def final_runout_error(series, reference, min_runout=0.01):
     return float(abs(r - ref[t]) / ref[t])
 
 
+def bulk_errors(final, initial, ref_final, ref_initial, min_advance=0.01):
+    """Relative errors of the advances of the mass edge and of the centroid (flow.bulk_advance); None
+    for one whose reference moved less than `min_advance` [m]."""
+    ours, theirs = flow.bulk_advance(final, initial), flow.bulk_advance(ref_final, ref_initial)
+    return [float(abs(a - b) / abs(b)) if abs(b) >= min_advance else None for a, b in zip(ours, theirs)]
+
+
 def errors(folder, reference_folder):
     series, ref_series = (tables.read_csv(Path(f) / "series.csv") for f in (folder, reference_folder))
     snaps = {round(s.time, 9): s for s in vtu.read_run(folder)}
     ref_snaps = {round(s.time, 9): s for s in vtu.read_run(reference_folder)}
+    initial, ref_initial = snaps[min(snaps)], ref_snaps[min(ref_snaps)]
     common = sorted(set(snaps) & set(ref_snaps))[1:]  # the initial state is the same by construction
     if not common:
         raise ValueError(f"{folder}: no output time in common with the reference {reference_folder}")
@@ -55,9 +65,12 @@ def errors(folder, reference_folder):
     width = 2 * ref_final.spacing()
     x = np.concatenate([final.xy[:, 0], ref_final.xy[:, 0]])
     bins = np.arange(x.min(), x.max() + 2 * width, width)
+    mass_edge, centroid = bulk_errors(final, initial, ref_final, ref_initial)
     return {
         "front_rel_err": flow.front_error(series, ref_series),
         "runout_rel_err": final_runout_error(series, ref_series),
         "stress_rel_l2": float(np.mean([stress_error(snaps[t], ref_snaps[t]) for t in common])),
         "deposit_rms_m": flow.profile_error(final, ref_final, bins),
+        "mass_edge_rel_err": mass_edge,
+        "centroid_rel_err": centroid,
     }
