@@ -9,14 +9,16 @@ Drucker–Prager column made of the same material:
 - its elastic moduli those of the cell (cell_response/results/moduli.csv, dense, 1 kPa), its density
   the cell's, φ ρ_s.
 The gate is removed later than in study.py, once the cells, prepared isotropically at P0, have settled
-into the column's own weight. A second packing seed at a = 1 gives the noise floor, and
-cells of 64 and 250 spheres the effect of the cell's size. Measured at rest
-(kinetic energy below REST of its peak), or, for a run that never gets there, at its end (flagged).
+into the column's own weight. A second packing seed at a = 1 gives the noise floor, and cells of 64 and
+250 spheres the effect of the cell's size. Measured at rest (kinetic energy below REST of its peak), or,
+for a run that never gets there, at its end (flagged, with its kinetic energy over the peak).
 
-  /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke]
+  /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke] [--remeasure]
 
-Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md and OUT/live.png. --smoke runs a
-two-point-wide column of 27-sphere cells for a few milliseconds past the gate (the CI test).
+Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md
+and OUT/live.png. Cases run as separate calls into one OUT (side by side) are collected together.
+--remeasure measures the finished runs again and runs nothing. --smoke runs a two-point-wide column of
+27-sphere cells for a few milliseconds past the gate (the CI test).
 """
 import argparse
 import csv
@@ -115,6 +117,11 @@ def last_row(series):
 def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
     folder = out / name
     cost = study.run_scene(folder, case_scene(folder, law, a, seed, spheres, h, ppc, smoke), build, threads)
+    return record(folder, name, law, a, seed, spheres, h, ppc, cost)
+
+
+def record(folder, name, law, a, seed, spheres, h, ppc, cost):
+    """Measures the finished run in `folder` and writes its result.json."""
     result = study.measure(folder, a, h, ppc, earliest_rest(a))
     if not result["at_rest"]:
         result = {**study.measure(folder, a, h, ppc, settled=last_row), "at_rest": False}
@@ -127,11 +134,12 @@ def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
 def table(results, twin):
     lines = [f"Drucker–Prager twin: φ = {twin['friction_angle']:.1f}° (sin φ = μ_s), E = {twin['young'] / 1e6:.2f} MPa, "
              f"ν = {twin['poisson']:.3f}, ρ = {twin['density']:.0f} kg/m³\n",
-             "| case | a | L0/h | ppc | measured at [s] | ΔL/L0 (front) | edge 5 % H0 | edge 10 % H0 | edge 15 % H0 | "
-             "Lube | H∞/H0 | CPU [s] |", "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| case | a | L0/h | ppc | measured at [s] | KE / peak | ΔL/L0 (front) | edge 5 % H0 | edge 10 % H0 | "
+             "edge 15 % H0 | Lube | H∞/H0 | CPU [s] |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
         when = f"{r['rest_time']:.2f}" + ("" if r["at_rest"] else " (end, not at rest)")
         lines.append(f"| {r['case']} | {r['a']:g} | {study.WIDTH / r['h']:.0f} | {r['points_per_cell']} | {when} | "
+                     f"{r['kinetic_energy_fraction']:.1e} | "
                      f"{r['runout']:.2f} | " + "".join(f"{e:.2f} | " for e in r["edges"].values())
                      + f"{r['lube_runout']:.2f} | {r['final_height']:.2f} | {r['cpu_s']:.0f} |")
     return "\n".join(lines) + "\n"
@@ -156,11 +164,18 @@ def main():
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--cases", nargs="+", help="run only these cases (names as in the table)")
     parser.add_argument("--smoke", action="store_true")
+    parser.add_argument("--remeasure", action="store_true", help="measure the finished runs again, run nothing")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     chosen = [c for c in cases(args.smoke) if not args.cases or c[0] in args.cases]
     if not chosen:
         sys.exit(f"live_study.py: --cases: expected names among {[c[0] for c in cases(args.smoke)]}")
+    if args.remeasure:
+        for case in chosen:
+            if (done := args.out / case[0] / "result.json").exists():
+                cost = {k: v for k, v in json.loads(done.read_text()).items() if k in ("cpu_s", "wall_s")}
+                record(args.out / case[0], *case, cost)
+        chosen = []
     for case in chosen:
         result = run_case(args.out, args.build.resolve(), args.threads, *case, args.smoke)
         print(json.dumps({k: v for k, v in result.items() if k != "profile"}), flush=True)
