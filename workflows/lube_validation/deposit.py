@@ -32,6 +32,11 @@ def profile(run_folder, geometry, h):
     return (edges + 1) * h / geometry["L0"], heights
 
 
+def last_snapshot_time(run_folder):
+    """Time [s] of the snapshot the profile is read from."""
+    return float(read_pvd(Path(run_folder) / "points.pvd")[-1][0])
+
+
 def edge(x, height, fraction):
     """ΔL/L0 at the last bin whose deposit is at least `fraction` of H0 thick (nan if none is)."""
     thick = x[height >= fraction]

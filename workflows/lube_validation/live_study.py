@@ -36,6 +36,7 @@ sys.path.insert(0, str(HERE.parent))
 sys.path.insert(0, str(HERE.parent / "cell_response"))
 from plotting import environment  # noqa: E402
 from plotting.figures import plt, DPI  # noqa: E402
+from plotting.tables import read_csv  # noqa: E402
 import moduli  # noqa: E402  (the cell)
 import mu_of_i  # noqa: E402  (its critical state)
 
@@ -70,7 +71,10 @@ def twin_material():
 
 
 def live_material(cell_file):
-    return {"name": "sand", "law": "live", "cell": cell_file, "retiling": {"max_spheres": 1000}}
+    """A cell sheared thin re-tiles, up to 1000 spheres (three doublings of 125), and beyond that is
+    regenerated from the template at its stress (a cohesionless cell has no damage to carry over)."""
+    return {"name": "sand", "law": "live", "cell": cell_file,
+            "retiling": {"max_spheres": 1000, "beyond_cap": "regenerate"}}
 
 
 def cases(smoke):
@@ -123,7 +127,7 @@ def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
 def record(folder, name, law, a, seed, spheres, h, ppc, cost):
     """Measures the finished run in `folder` and writes its result.json."""
     result = study.measure(folder, a, h, ppc, earliest_rest(a))
-    if not result["at_rest"]:
+    if not result["at_rest"]:  # at its end, or where it stopped
         result = {**study.measure(folder, a, h, ppc, settled=last_row), "at_rest": False}
     result = {"case": name, "law": law, "a": a, "seed": seed, "spheres": spheres, "h": h, "points_per_cell": ppc,
               **cost, **result}
@@ -137,22 +141,43 @@ def table(results, twin):
              "| case | a | L0/h | ppc | measured at [s] | KE / peak | ΔL/L0 (front) | edge 5 % H0 | edge 10 % H0 | "
              "edge 15 % H0 | Lube | H∞/H0 | CPU [s] |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in results:
-        when = f"{r['rest_time']:.2f}" + ("" if r["at_rest"] else " (end, not at rest)")
+        when = f"{r['rest_time']:.2f}" + ("" if r["at_rest"] else " (stopped)" if r.get("failed") else
+                                           " (end, not at rest)")
         lines.append(f"| {r['case']} | {r['a']:g} | {study.WIDTH / r['h']:.0f} | {r['points_per_cell']} | {when} | "
                      f"{r['kinetic_energy_fraction']:.1e} | "
                      f"{r['runout']:.2f} | " + "".join(f"{e:.2f} | " for e in r["edges"].values())
-                     + f"{r['lube_runout']:.2f} | {r['final_height']:.2f} | {r['cpu_s']:.0f} |")
+                     + f"{r['lube_runout']:.2f} | {r['final_height']:.2f} | "
+                     + ("not measured |" if r["cpu_s"] is None else f"{r['cpu_s']:.0f} |"))
     return "\n".join(lines) + "\n"
 
 
-def plot(results, file):
+def plot(results, out, file):
+    """Left: the runouts against Lube's law; right: each run's front over time, from the gate's removal,
+    in units of L0 and of sqrt(H0/g)."""
     fig, ax = study.lube_axes(2.0)
     styles = {("live", H): ("o", "live DEM cells"), ("drucker_prager", H): ("s", "Drucker–Prager twin"),
               ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc")}
     for (law, h), (marker, label) in styles.items():
-        study.draw_runouts(ax, [r for r in results if r["law"] == law and r["h"] == h], marker, label)
+        study.draw_runouts(ax, [r for r in results if r["law"] == law and r["h"] == h and not r.get("failed")], marker,
+                           label)
     ax.legend(fontsize=7)
-    fig.tight_layout()
+    fig.set_size_inches(11, 4)
+    ax.set_position([0.07, 0.13, 0.38, 0.8])
+    fronts = fig.add_axes([0.55, 0.13, 0.42, 0.8])
+    colours = {0.5: "tab:blue", 1.0: "tab:orange", 2.0: "tab:green"}
+    for r in results:
+        if r["h"] != H or r["a"] not in colours:
+            continue
+        series = read_csv(out / r["case"] / "run" / "series.csv")
+        time_unit = math.sqrt(r["a"] * study.WIDTH / 9.81)
+        fronts.plot((series["t"] - GATE) / time_unit, (series["front"] - series["front"][0]) / study.WIDTH,
+                    "-" if r["law"] == "live" else "--", color=colours[r["a"]], lw=1 if r["seed"] in (1, None) else 0.6,
+                    label=f"{r['case']}" + (" (stopped)" if r.get("failed") else ""))
+    fronts.set_xlim(left=0)
+    fronts.set_xlabel("(t − t_gate) / sqrt(H0/g)")
+    fronts.set_ylabel("front advance / L0")
+    fronts.legend(fontsize=6, ncol=2)
+    fronts.grid(alpha=0.3)
     fig.savefig(file, dpi=DPI)
     plt.close(fig)
 
@@ -173,7 +198,7 @@ def main():
     if args.remeasure:
         for case in chosen:
             if (done := args.out / case[0] / "result.json").exists():
-                cost = {k: v for k, v in json.loads(done.read_text()).items() if k in ("cpu_s", "wall_s")}
+                cost = {k: v for k, v in json.loads(done.read_text()).items() if k in ("cpu_s", "wall_s", "failed")}
                 record(args.out / case[0], *case, cost)
         chosen = []
     for case in chosen:
@@ -184,7 +209,7 @@ def main():
     (args.out / "live.json").write_text(json.dumps(results, indent=2) + "\n")
     twin = twin_material()
     (args.out / "live.md").write_text(table(results, twin))
-    plot(results, args.out / "live.png")
+    plot(results, args.out, args.out / "live.png")
     print(table(results, twin), end="")
 
 

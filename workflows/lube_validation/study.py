@@ -15,10 +15,7 @@ workflow).
 """
 import argparse
 import json
-import resource
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 import column_scene
@@ -28,6 +25,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import environment  # noqa: E402
 from plotting.tables import read_csv  # noqa: E402
+from plotting.timing import timed_run  # noqa: E402
 
 REST = 1e-4  # kinetic energy / its peak
 WIDTH = 0.2  # L0 [m]
@@ -57,17 +55,14 @@ def at_rest(series, gate):
 
 
 def run_scene(folder, scene, build, threads):
-    """Runs mpm_solver on `scene` in `folder`; CPU and wall seconds."""
+    """Runs mpm_solver on `scene` in `folder`: {cpu_s, wall_s, failed} (failed: "" or the solver's
+    message; what the run wrote until then is kept)."""
     folder.mkdir(parents=True, exist_ok=True)
     scene_file = folder / "scene.json"
     scene_file.write_text(json.dumps(scene, indent=2) + "\n")
-    before = resource.getrusage(resource.RUSAGE_CHILDREN)
-    start = time.monotonic()
-    subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(folder / "run"),
-                    "--threads", str(threads)], check=True, stdout=subprocess.DEVNULL)
-    after = resource.getrusage(resource.RUSAGE_CHILDREN)
-    return {"cpu_s": (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime),
-            "wall_s": time.monotonic() - start}
+    wall, cpu, error = timed_run([build / "mpm_solver" / "mpm_solver", scene_file, "--out", folder / "run",
+                                  "--threads", threads])
+    return {"cpu_s": cpu, "wall_s": wall, "failed": error or ""}
 
 
 def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, settled=None):
@@ -88,13 +83,17 @@ def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, settled=None):
             "kinetic_energy_fraction": float(energy[k] / max(energy[:k + 1])),
             "final_height": float((height - g["base"]) / g["H0"]),
             "runout_error": float(runout / column_scene.lube_runout(a) - 1),
-            "edges": deposit.edges(x, profile), "profile": {"x": x.tolist(), "height": profile.tolist()}}
+            "edges": deposit.edges(x, profile), "profile": {"x": x.tolist(), "height": profile.tolist()},
+            "profile_time": deposit.last_snapshot_time(folder / "run")}
 
 
 def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
     folder = out / name
     scene = column_scene.scene(a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None)
     cost = run_scene(folder, scene, build, threads)
+    failed = cost.pop("failed")
+    if failed:
+        sys.exit(f"study.py: {name}: mpm_solver failed: {failed}")
     return {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i, **cost,
             **measure(folder, a, h, ppc)}
 
