@@ -43,12 +43,13 @@ JOP_RHEOLOGY = {"mu_2": math.sin(math.radians(FRICTION_ANGLE)) + 0.26, "inertial
 
 
 def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER, rheology=None,
-          material=None, p_wave=None, gate=GATE_REMOVAL):
+          material=None, p_wave=None, gate=GATE_REMOVAL, room=2):
     """The column scene; `material` (named "sand") replaces the Drucker–Prager sand, and `p_wave`, its
-    P-wave modulus, sets the stiffness of base and walls."""
+    P-wave modulus, sets the stiffness of base and walls. The grid reaches `room` times Lube's runout
+    beyond the column."""
     L0, H0 = width, a * width
     base = wall = 2 * h
-    cells_x = math.ceil((wall + L0 * (1 + 2 * lube_runout(a)) + 2 * h) / h)
+    cells_x = math.ceil((wall + L0 * (1 + room * lube_runout(a)) + 2 * h) / h)
     cells_y = math.ceil((base + H0 + 2 * h) / h)
     # Base and walls as stiff as the material over one cell: sqrt(k_n / m_p) = c_p / h.
     k_n = (p_wave or p_wave_modulus()) / ppc**2

@@ -46,12 +46,16 @@ GATE = 0.05  # [s]
 H, PPC = 0.02, 1  # L0/h = 10, one point (one cell) per grid cell
 
 
-def critical_state_ratio():
-    """μ_s of the μ(I) fit to the committed rheometer results."""
+def cell_mu_of_i():
+    """(μ_s, μ_2, I_0) of the μ(I) fit to the committed rheometer results."""
     with (CELL_RESULTS / "mu_of_i.csv").open() as f:
         rows = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
     means = mu_of_i.summary(rows)
-    return mu_of_i.fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])[0]
+    return mu_of_i.fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])
+
+
+def critical_state_ratio():
+    return cell_mu_of_i()[0]
 
 
 def cell_elasticity():
@@ -63,11 +67,16 @@ def cell_elasticity():
     return 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g)), statistics.mean(float(r["phi"]) for r in rows)
 
 
-def twin_material():
-    """The Drucker–Prager material of the cell: φ from μ_s, moduli and density of the cell."""
+def twin_material(inertial=False):
+    """The Drucker–Prager material of the cell: φ from μ_s, moduli and density of the cell; with
+    `inertial`, also the rate dependence of the cell's μ(I) fit (μ_2, I_0, its grains' mean diameter and
+    density)."""
     young, poisson, solid_fraction = cell_elasticity()
-    angle = math.degrees(math.asin(critical_state_ratio()))
-    return column_scene.drucker_prager(angle, solid_fraction * moduli.MATERIAL["density"], young, poisson)
+    mu_s, mu_2, i_0 = cell_mu_of_i()
+    rheology = {"mu_2": mu_2, "inertial_number_0": i_0, "grain_diameter": sum(moduli.DIAMETER.values()) / 2,
+                "grain_density": moduli.MATERIAL["density"]} if inertial else None
+    return column_scene.drucker_prager(math.degrees(math.asin(mu_s)), solid_fraction * moduli.MATERIAL["density"],
+                                       young, poisson, rheology)
 
 
 def live_material(cell_file):
@@ -86,6 +95,7 @@ def cases(smoke):
     out += [(f"live_a1_n{n}", "live", 1.0, 1, n, H, PPC) for n in (64, 250)]
     out += [(f"dp_a{a:g}", "drucker_prager", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [(f"dp_a{a:g}_h0.01_ppc2", "drucker_prager", a, None, None, 0.01, 2) for a in (0.5, 1.0, 2.0)]
+    out += [(f"dp_mu_i_a{a:g}", "drucker_prager_mu_i", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     return out
 
 
@@ -106,10 +116,12 @@ def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
         young, poisson, _ = cell_elasticity()
         material = live_material("cell.json")
     else:
-        material = twin_material()
+        material = twin_material(inertial=law == "drucker_prager_mu_i")
         young, poisson = material["young"], material["poisson"]
+    # The twin's low friction (about 20°) runs out beyond twice Lube's runout on the finer grid.
     scene = column_scene.scene(a, study.WIDTH, h, ppc, end=end_time(a, smoke), material=material,
-                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE)
+                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE,
+                               room=2 if law == "live" else 4)
     scene["time"]["stop_at_rest"] = {"kinetic_energy_fraction": study.REST, "not_before": earliest_rest(a)}
     return scene
 
@@ -136,7 +148,8 @@ def record(folder, name, law, a, seed, spheres, h, ppc, cost):
 
 
 def table(results, twin):
-    lines = [f"Drucker–Prager twin: φ = {twin['friction_angle']:.1f}° (sin φ = μ_s), E = {twin['young'] / 1e6:.2f} MPa, "
+    lines = [f"Drucker–Prager twin: φ = {twin['friction_angle']:.1f}° (sin φ = μ_s), "
+             f"E = {twin['young'] / 1e6:.2f} MPa, "
              f"ν = {twin['poisson']:.3f}, ρ = {twin['density']:.0f} kg/m³\n",
              "| case | a | L0/h | ppc | measured at [s] | KE / peak | ΔL/L0 (front) | edge 5 % H0 | edge 10 % H0 | "
              "edge 15 % H0 | Lube | H∞/H0 | CPU [s] |", "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -156,7 +169,8 @@ def plot(results, out, file):
     in units of L0 and of sqrt(H0/g)."""
     fig, ax = study.lube_axes(2.0)
     styles = {("live", H): ("o", "live DEM cells"), ("drucker_prager", H): ("s", "Drucker–Prager twin"),
-              ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc")}
+              ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc"),
+              ("drucker_prager_mu_i", H): ("D", "Drucker–Prager twin with the cell's μ(I)")}
     for (law, h), (marker, label) in styles.items():
         study.draw_runouts(ax, [r for r in results if r["law"] == law and r["h"] == h and not r.get("failed")], marker,
                            label)
@@ -170,8 +184,9 @@ def plot(results, out, file):
             continue
         series = read_csv(out / r["case"] / "run" / "series.csv")
         time_unit = math.sqrt(r["a"] * study.WIDTH / 9.81)
-        fronts.plot((series["t"] - GATE) / time_unit, (series["front"] - series["front"][0]) / study.WIDTH,
-                    "-" if r["law"] == "live" else "--", color=colours[r["a"]], lw=1 if r["seed"] in (1, None) else 0.6,
+        line = {"live": "-", "drucker_prager": "--"}.get(r["law"], ":")
+        fronts.plot((series["t"] - GATE) / time_unit, (series["front"] - series["front"][0]) / study.WIDTH, line,
+                    color=colours[r["a"]], lw=1 if r["seed"] in (1, None) else 0.6,
                     label=f"{r['case']}" + (" (stopped)" if r.get("failed") else ""))
     fronts.set_xlim(left=0)
     fronts.set_xlabel("(t − t_gate) / sqrt(H0/g)")
