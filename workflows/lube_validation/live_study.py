@@ -22,6 +22,7 @@ and OUT/live.png. Cases run as separate calls into one OUT (side by side) are co
 """
 import argparse
 import csv
+import functools
 import json
 import math
 import statistics
@@ -46,6 +47,7 @@ GATE = 0.05  # [s]
 H, PPC = 0.02, 1  # L0/h = 10, one point (one cell) per grid cell
 
 
+@functools.cache
 def cell_mu_of_i():
     """(μ_s, μ_2, I_0) of the μ(I) fit to the committed rheometer results."""
     with (CELL_RESULTS / "mu_of_i.csv").open() as f:
@@ -58,6 +60,7 @@ def critical_state_ratio():
     return cell_mu_of_i()[0]
 
 
+@functools.cache
 def cell_elasticity():
     """(E, ν, φ) of the dense cell at 1 kPa, seed means of the committed moduli study."""
     with (CELL_RESULTS / "moduli.csv").open() as f:
@@ -126,10 +129,6 @@ def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
     return scene
 
 
-def last_row(series):
-    return len(series["t"]) - 1
-
-
 def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
     folder = out / name
     cost = study.run_scene(folder, case_scene(folder, law, a, seed, spheres, h, ppc, smoke), build, threads)
@@ -138,9 +137,7 @@ def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
 
 def record(folder, name, law, a, seed, spheres, h, ppc, cost):
     """Measures the finished run in `folder` and writes its result.json."""
-    result = study.measure(folder, a, h, ppc, earliest_rest(a))
-    if not result["at_rest"]:  # at its end, or where it stopped
-        result = {**study.measure(folder, a, h, ppc, settled=last_row), "at_rest": False}
+    result = study.measure(folder, a, h, ppc, earliest_rest(a), or_at_end=True)  # or where it stopped
     result = {"case": name, "law": law, "a": a, "seed": seed, "spheres": spheres, "h": h, "points_per_cell": ppc,
               **cost, **result}
     (folder / "result.json").write_text(json.dumps(result, indent=2) + "\n")

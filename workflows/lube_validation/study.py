@@ -65,12 +65,15 @@ def run_scene(folder, scene, build, threads):
     return {"cpu_s": cpu, "wall_s": wall, "failed": error or ""}
 
 
-def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, settled=None):
-    """Runout, final height and deposit of the run in `folder`, at rest (or, when `settled` is given,
-    at the row of that index: a run that never reaches REST)."""
+def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False):
+    """Runout, final height and deposit of the run in `folder`, at rest; a run that never gets there
+    is measured at its last row when `or_at_end` (with at_rest False), else not at all."""
     series = read_csv(folder / "run" / "series.csv")
     g = column_scene.geometry(a, WIDTH, h, ppc)
-    k = at_rest(series, gate) if settled is None else settled(series)
+    k = at_rest(series, gate)
+    settled = k is not None
+    if not settled and or_at_end:
+        k = len(series["t"]) - 1
     result = {"steps": int(series["step"][-1]), "lube_runout": column_scene.lube_runout(a)}
     if k is None:
         return {**result, "at_rest": False, "rest_time": None, "runout": None, "final_height": None}
@@ -79,7 +82,7 @@ def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, settled=None):
     runout = (front - g["wall"] - g["L0"]) / g["L0"]
     x, profile = deposit.profile(folder / "run", g, h)
     energy = series["kinetic_energy"]
-    return {**result, "at_rest": True, "rest_time": float(series["t"][k]), "runout": float(runout),
+    return {**result, "at_rest": settled, "rest_time": float(series["t"][k]), "runout": float(runout),
             "kinetic_energy_fraction": float(energy[k] / max(energy[:k + 1])),
             "final_height": float((height - g["base"]) / g["H0"]),
             "runout_error": float(runout / column_scene.lube_runout(a) - 1),
