@@ -126,7 +126,7 @@ int sample_serial(const SampleOptions& options) {
 
 #ifdef GRAINBANK_HAVE_MPI
 int sample_mpi(const SampleOptions& options) {
-  const sampler::MpiSession mpi(nullptr, nullptr);
+  const common::MpiSession mpi(nullptr, nullptr);
   const bool root = mpi.rank() == 0;
   TestStopPoint stop_point;
   std::optional<Setup> setup;
@@ -167,7 +167,7 @@ int sample_mpi(const SampleOptions& options) {
     // Destroying the source lets rank 0's dispatcher finish before the collectives below.
   }
   if (!error.empty()) std::cerr << "dem_sampler: rank " << mpi.rank() << ": " << error << "\n";
-  const sampler::SampleSummary total = mpi.combine(local);
+  const sampler::SampleSummary total = sampler::combine_over_ranks(local);
   const bool ok = mpi.all(error.empty());
   if (!root) return ok && !stop_signal() ? 0 : 1;
   const int code = report(total, "on " + std::to_string(mpi.size()) + " MPI rank(s) x " + std::to_string(run.threads) +
@@ -180,7 +180,7 @@ int sample_mpi(const SampleOptions& options) {
 
 int sample_command(const SampleOptions& options) {
 #ifdef GRAINBANK_HAVE_MPI
-  if (sampler::MpiSession::launched_by_mpirun()) return sample_mpi(options);
+  if (common::MpiSession::launched_by_mpirun()) return sample_mpi(options);
 #endif
   return sample_serial(options);
 }

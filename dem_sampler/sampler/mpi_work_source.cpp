@@ -15,30 +15,7 @@ constexpr std::int64_t kNoWork = -1;
 
 }  // namespace
 
-bool MpiSession::launched_by_mpirun() {
-  return std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") || std::getenv("PMIX_RANK");
-}
-
-MpiSession::MpiSession(int* argc, char*** argv) {
-  int provided = 0;
-  MPI_Init_thread(argc, argv, MPI_THREAD_SERIALIZED, &provided);
-  if (provided < MPI_THREAD_SERIALIZED) {
-    MPI_Finalize();
-    throw std::runtime_error("MPI: this MPI library does not support MPI_THREAD_SERIALIZED");
-  }
-  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
-  MPI_Comm_size(MPI_COMM_WORLD, &size_);
-}
-
-MpiSession::~MpiSession() { MPI_Finalize(); }
-
-bool MpiSession::all(bool ok) const {
-  int local = ok ? 1 : 0, global = 0;
-  MPI_Allreduce(&local, &global, 1, MPI_INT, MPI_MIN, MPI_COMM_WORLD);
-  return global == 1;
-}
-
-SampleSummary MpiSession::combine(const SampleSummary& local) const {
+SampleSummary combine_over_ranks(const SampleSummary& local) {
   long counts[5] = {local.done, local.failed, local.abandoned, local.records, local.dem_steps};
   long total[5] = {};
   MPI_Allreduce(counts, total, 5, MPI_LONG, MPI_SUM, MPI_COMM_WORLD);
@@ -48,8 +25,6 @@ SampleSummary MpiSession::combine(const SampleSummary& local) const {
   MPI_Allreduce(&local.seconds, &seconds, 1, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
   return SampleSummary{total[0], total[1], total[2], total[3], total[4], real_total[0], seconds};
 }
-
-void MpiSession::barrier() const { MPI_Barrier(MPI_COMM_WORLD); }
 
 MpiDispatcher::MpiDispatcher(std::vector<std::int64_t> ids, int ranks, const std::atomic<bool>* stop)
     : ids_(std::move(ids)), stop_(stop), server_([this, ranks] { serve(ranks); }) {}

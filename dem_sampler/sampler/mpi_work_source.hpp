@@ -8,31 +8,13 @@
 #include <mutex>
 #include <thread>
 
+#include "common/mpi_session.hpp"
 #include "dem_sampler/sampler/sampler.hpp"
 
 namespace grainbank::sampler {
 
-// MPI_Init_thread / MPI_Finalize, and the few collectives the sample command needs.
-class MpiSession {
- public:
-  // True when this process was started by mpirun/mpiexec (so MPI must be initialised).
-  static bool launched_by_mpirun();
-  MpiSession(int* argc, char*** argv);
-  ~MpiSession();
-  MpiSession(const MpiSession&) = delete;
-  MpiSession& operator=(const MpiSession&) = delete;
-
-  int rank() const { return rank_; }
-  int size() const { return size_; }
-  // Every rank learns whether all ranks passed (logical and).
-  bool all(bool ok) const;
-  // Sums counts and takes the longest wall time, on every rank.
-  SampleSummary combine(const SampleSummary& local) const;
-  void barrier() const;
-
- private:
-  int rank_ = 0, size_ = 1;
-};
+// Sums the ranks' counts and takes the longest wall time, on every rank.
+SampleSummary combine_over_ranks(const SampleSummary& local);
 
 // Rank 0: its own workers call next(); a thread serves the other ranks until each has been told
 // that no work is left.

@@ -10,6 +10,8 @@
 #include <exception>
 #include <fstream>
 #include <iostream>
+#include <memory>
+#include <optional>
 #include <string>
 
 #include "mpm_solver/app/audit_command.hpp"
@@ -20,6 +22,10 @@
 #include "common/stop_signals.hpp"
 #include "mpm_solver/app/run_command.hpp"
 #include "mpm_solver/app/scene_overrides.hpp"
+#ifdef GRAINBANK_HAVE_MPI
+#include "common/mpi_session.hpp"
+#include "mpm_solver/parallel/mpi_ranks.hpp"
+#endif
 
 using namespace grainbank::mpm::app;
 
@@ -98,7 +104,7 @@ int audit_main(int argc, char** argv) {
   return 0;
 }
 
-int run_main(int argc, char** argv) {
+int run_main(int argc, char** argv, const std::shared_ptr<const grainbank::mpm::Ranks>& ranks) {
   CLI::App cli("mpm_solver: 2D plane-strain MPM with analytic and live DEM laws\n"
                "usage: mpm_solver SCENE.json [--library LIB] [--law NAME] [--material JSON] [--set POINTER=JSON]... "
                "[--out DIR] [--restart FILE] [--checkpoint-every S] [--threads N] [--json] | mpm_solver scene --help | mpm_solver bench --help "
@@ -120,7 +126,10 @@ int run_main(int argc, char** argv) {
   if (threads > 0) omp_set_num_threads(threads);
   o.progress = !json;
   o.stop = &grainbank::common::install_stop_signals();
+  o.ranks = ranks;
+  const bool root = !ranks || ranks->rank() == 0;
   const nlohmann::json summary = run_scene(o);
+  if (!root) return summary["interrupted"].get<bool>() ? 1 : 0;
   if (summary["interrupted"].get<bool>()) {
     // Exit status 1, like an interrupted `dem_sampler sample`: the run did not reach its end time.
     if (json) std::printf("%s\n", summary.dump(2).c_str());
@@ -144,15 +153,25 @@ int run_main(int argc, char** argv) {
 
 }  // namespace
 
+// Under mpirun, a run is spread over the job's ranks (every rank runs this same command line); an
+// error stops every rank at the same point (core/ranks.hpp share_failure) and rank 0 alone reports it.
 int main(int argc, char** argv) {
+  std::shared_ptr<const grainbank::mpm::Ranks> ranks;
+#ifdef GRAINBANK_HAVE_MPI
+  std::optional<grainbank::common::MpiSession> mpi;
+  if (grainbank::common::MpiSession::launched_by_mpirun()) {
+    mpi.emplace(&argc, &argv);
+    ranks = std::make_shared<grainbank::mpm::parallel::MpiRanks>();
+  }
+#endif
   try {
     if (argc > 1 && std::string(argv[1]) == "scene") return scene_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "bench") return bench_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "audit") return audit_main(argc - 1, argv + 1);
     if (argc > 1 && std::string(argv[1]) == "laws") return laws_main(argc - 1, argv + 1);
-    return run_main(argc, argv);
+    return run_main(argc, argv, ranks);
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "mpm_solver: %s\n", e.what());
+    if (!ranks || ranks->rank() == 0) std::fprintf(stderr, "mpm_solver: %s\n", e.what());
     return 1;
   }
 }

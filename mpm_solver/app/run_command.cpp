@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/io/audit_trail.hpp"
 #include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
@@ -46,11 +47,13 @@ nlohmann::json phases_json(const PhaseTimes& p) {
 
 // The scene file of the run: the file itself, or with overrides its rewritten JSON, kept in
 // the output folder under the scene's own name (so that loader errors name the same file and key).
-std::filesystem::path scene_of_run(const RunOptions& o) {
+// Only `write` writes the rewritten file (rank 0 of several).
+std::filesystem::path scene_of_run(const RunOptions& o, bool write) {
   if (!o.overrides.any()) return o.scene;
+  const std::filesystem::path rewritten = o.out / "scene" / o.scene.filename();
+  if (!write) return rewritten;
   const nlohmann::json doc =
       apply_overrides(common::load_json_file(o.scene), o.scene.parent_path(), o.overrides);
-  const std::filesystem::path rewritten = o.out / "scene" / o.scene.filename();
   std::filesystem::create_directories(rewritten.parent_path());
   std::ofstream(rewritten) << doc.dump(2) << '\n';
   return rewritten;
@@ -93,50 +96,90 @@ std::string time_step_collapse(const Solver& solver, double stable, double floor
 
 nlohmann::json run_scene(const RunOptions& options) {
   const Clock::time_point start = Clock::now();
-  std::filesystem::create_directories(options.out);
-  const std::filesystem::path scene_file = scene_of_run(options);
+  const std::shared_ptr<const Ranks> ranks = options.ranks ? options.ranks : std::make_shared<OneRank>();
+  const bool root = ranks->rank() == 0;
+  // Runs `write` on rank 0 only; a failure there stops every rank with its message (a rank that
+  // went on alone would wait for the others forever).
+  const auto on_root = [&](auto&& write) {
+    if (ranks->size() == 1) return write();
+    std::string failure;
+    if (root) try {
+        write();
+      } catch (const std::exception& e) {
+        failure = e.what();
+      }
+    share_failure(*ranks, failure);
+  };
+  on_root([&] {
+    std::filesystem::create_directories(options.out);
+    scene_of_run(options, true);
+  });
+  const std::filesystem::path scene_file = scene_of_run(options, false);
   io::Scene scene = load_scene(options, scene_file);
   Solver& solver = *scene.solver;
+  solver.set_ranks(ranks);
   io::RunRecord run_record;
   if (!options.restart.empty()) run_record = io::read_restart(options.restart, solver);
-  if (scene.stop_at_rest && run_record.kinetic_energy_peak_since > 0)
+  if (root && scene.stop_at_rest && run_record.kinetic_energy_peak_since > 0)
     std::fprintf(stderr,
                  "mpm_solver: warning: %s carries no kinetic-energy peak from before t = %g s (an older build's "
                  "restart, or one resumed from it): time.stop_at_rest compares with the peak from then on\n",
                  options.restart.string().c_str(), run_record.kinetic_energy_peak_since);
+  // Rank 0 writes every output; the other ranks step the same solver and measure the same flow.
   std::optional<io::AuditTrailRecorder> audit_trail;
-  if (!scene.audited_points.empty())
+  if (root && !scene.audited_points.empty())
     audit_trail.emplace(solver, scene.audited_points, std::filesystem::absolute(scene_file).string());
   const double setup_time = seconds_since(start);
 
-  io::PvdCollection pvd(options.out / "points.pvd");
-  io::SeriesCsv series(options.out / "series.csv");
-  std::optional<io::TrackedCsv> tracked;
-  if (!scene.tracked_points.empty()) tracked.emplace(options.out / "tracked_points.csv", scene.tracked_points);
-  io::TrackedCells tracked_cells(options.out / "cells", scene.tracked_points);
+  struct Outputs {
+    io::PvdCollection pvd;
+    io::SeriesCsv series;
+    std::optional<io::TrackedCsv> tracked;
+    io::TrackedCells tracked_cells;
+  };
+  std::optional<Outputs> outputs;
+  on_root([&] {
+    outputs.emplace(Outputs{io::PvdCollection(options.out / "points.pvd"), io::SeriesCsv(options.out / "series.csv"),
+                            std::nullopt, io::TrackedCells(options.out / "cells", scene.tracked_points)});
+    if (!scene.tracked_points.empty())
+      outputs->tracked.emplace(options.out / "tracked_points.csv", scene.tracked_points);
+  });
 
   const std::filesystem::path restart = options.out / "restart.h5";
+  const auto write_restart = [&] {
+    solver.share_point_states();
+    on_root([&] { io::write_restart(restart, solver, run_record); });
+  };
   double output_time = 0;
   long snapshots = 0;
   Clock::time_point last_checkpoint = Clock::now();
   const auto snapshot = [&] {
     const Clock::time_point t0 = Clock::now();
-    char name[64];
-    std::snprintf(name, sizeof name, "points_%06ld.vtu", snapshots++);
-    io::write_vtu(options.out / name, solver);
-    pvd.add(solver.time(), name);
-    tracked_cells.write(solver, snapshots - 1);
-    // At a snapshot, so that a run resumed from the checkpoint starts on its own output schedule.
-    if (seconds_since(last_checkpoint) >= options.checkpoint_every) {
-      io::write_restart(restart, solver, run_record);
+    if (!scene.tracked_points.empty()) solver.share_point_states(scene.tracked_points);
+    on_root([&] {
+      char name[64];
+      std::snprintf(name, sizeof name, "points_%06ld.vtu", snapshots);
+      io::write_vtu(options.out / name, solver);
+      outputs->pvd.add(solver.time(), name);
+      outputs->tracked_cells.write(solver, snapshots);
+    });
+    ++snapshots;
+    // At a snapshot, so that a run resumed from the checkpoint starts on its own output schedule;
+    // rank 0's clock decides for all.
+    if (ranks->any(root && seconds_since(last_checkpoint) >= options.checkpoint_every)) {
+      write_restart();
       last_checkpoint = Clock::now();
     }
     output_time += seconds_since(t0);
   };
   bool at_rest = false;
   const auto record = [&](double dt) {
-    const double energy = series.write(solver, dt).kinetic_energy;
-    if (tracked) tracked->write(solver);
+    const TimeStepLimits limits = solver.time_step_limits();
+    double energy = measure_flow(solver.points()).kinetic_energy;
+    on_root([&] {
+      energy = outputs->series.write(solver, dt, limits).kinetic_energy;
+      if (outputs->tracked) outputs->tracked->write(solver);
+    });
     run_record.kinetic_energy_peak = std::max(run_record.kinetic_energy_peak, energy);
     if (const auto& rest = scene.stop_at_rest)
       at_rest = solver.time() >= rest->not_before * (1 - 1e-12) &&
@@ -147,27 +190,28 @@ nlohmann::json run_scene(const RunOptions& options) {
   const double start_time = solver.time();
   snapshot();
   record(0);
-  Schedule outputs{scene.output_interval, next_after(solver.time(), scene.output_interval)};
+  Schedule snapshots_due{scene.output_interval, next_after(solver.time(), scene.output_interval)};
   Schedule rows{scene.series_interval, next_after(solver.time(), scene.series_interval)};
   double dt_min = std::numeric_limits<double>::infinity(), dt_max = 0;
   Clock::time_point last_report = loop_start;
-  const auto stop_requested = [&] { return options.stop && options.stop->load(); };
+  // A signal that reaches any rank stops all of them after the same step.
+  const auto stop_requested = [&] { return ranks->any(options.stop && options.stop->load()); };
   while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !stop_requested()) {
     // Land exactly on the next output, row or end time.
-    const double horizon = std::min({outputs.next_time(), rows.next_time(), scene.end_time});
+    const double horizon = std::min({snapshots_due.next_time(), rows.next_time(), scene.end_time});
     const double stable = solver.stable_time_step();
     if (stable < scene.min_time_step) {
-      io::write_restart(restart, solver, run_record);
-      throw std::runtime_error(time_step_collapse(solver, stable, scene.min_time_step) + "; restart written to " +
-                               restart.string());
+      const std::string cause = time_step_collapse(solver, stable, scene.min_time_step);
+      write_restart();
+      throw std::runtime_error(cause + "; restart written to " + restart.string());
     }
     const double dt = std::min(stable, horizon - solver.time());
     solver.step(dt);
     if (audit_trail) audit_trail->record(solver, dt);
     dt_min = std::min(dt_min, dt), dt_max = std::max(dt_max, dt);
     if (rows.due(solver.time())) record(dt), ++rows.next;
-    if (outputs.due(solver.time())) snapshot(), ++outputs.next;
-    if (options.progress && seconds_since(last_report) > 2) {
+    if (snapshots_due.due(solver.time())) snapshot(), ++snapshots_due.next;
+    if (root && options.progress && seconds_since(last_report) > 2) {
       last_report = Clock::now();
       // The ETA extrapolates this run's own progress: a resumed run started at start_time, not at 0.
       const double done = solver.time() / scene.end_time, elapsed = seconds_since(loop_start);
@@ -176,12 +220,14 @@ nlohmann::json run_scene(const RunOptions& options) {
                    solver.steps(), dt, elapsed * (1 - resumed_done) / resumed_done);
     }
   }
-  if (options.progress) std::fprintf(stderr, "\n");
+  if (root && options.progress) std::fprintf(stderr, "\n");
   const double run_time = seconds_since(loop_start);
   // Checked once: a signal arriving after the loop ended does not make a finished run "interrupted".
   const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12) && !at_rest;
-  io::write_restart(restart, solver, run_record);
-  if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
+  write_restart();
+  on_root([&] {
+    if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
+  });
 
   const double updates = static_cast<double>(solver.steps()) * static_cast<double>(solver.points().size());
   nlohmann::json summary = {
@@ -194,6 +240,7 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"time_step", {{"min", solver.steps() ? dt_min : 0.0}, {"max", dt_max}}},
       {"snapshots", snapshots},
       {"threads", omp_get_max_threads()},
+      {"mpi_ranks", ranks->size()},
       {"wall_time", {{"total", seconds_since(start)}, {"setup", setup_time}, {"steps", run_time - output_time},
                      {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
       {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0},
@@ -205,7 +252,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
   solver.finish();
   summary["coupling"] = io::coupling_summary(solver);
-  std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n';
+  on_root([&] { std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n'; });
   return summary;
 }
 

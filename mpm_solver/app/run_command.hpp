@@ -7,10 +7,12 @@
 #pragma once
 #include <atomic>
 #include <filesystem>
+#include <memory>
 
 #include <nlohmann/json.hpp>
 
 #include "mpm_solver/app/scene_overrides.hpp"
+#include "mpm_solver/core/ranks.hpp"
 
 namespace grainbank::mpm::app {
 
@@ -27,6 +29,10 @@ struct RunOptions {
   // Polled after every step (the CLI wires SIGINT/SIGTERM to it): once true, the run stops there,
   // writes OUT/restart.h5 and returns a summary with "interrupted": true.
   const std::atomic<bool>* stop = nullptr;
+  // The MPI ranks the run is spread over (null: this process alone). Every rank calls run_scene with
+  // the same options; rank 0 writes every output and reports progress, and a signal reaching any
+  // rank stops them all after the same step.
+  std::shared_ptr<const Ranks> ranks;
 };
 
 // Returns the run summary (also written to OUT/summary.json; "restart" names the restart file,

@@ -14,6 +14,7 @@
 namespace grainbank::mpm {
 
 class DemBackedLaw;
+class PointSharing;
 
 class ConstitutiveLaw {
  public:
@@ -57,6 +58,13 @@ class ConstitutiveLaw {
   // Ends the run (Solver::finish): writes what the law still holds (e.g. live responses for the
   // library). Called once, after the last step; throws with context when that fails.
   virtual void finish() {}
+
+  // A run spread over several ranks (core/ranks.hpp) replicates a law whose update of a point
+  // depends on nothing but the point and that writes nothing (replicable: every rank updates every
+  // point alike), and spreads the points of a law with a PointSharing over the ranks. A law with
+  // neither runs on one rank only.
+  virtual bool replicable() const { return false; }
+  virtual PointSharing* point_sharing() { return nullptr; }
 
   // The DEM-backed side of the law (live cells, library answers), or null for an analytic law.
   virtual const DemBackedLaw* dem_backed() const { return nullptr; }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <exception>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -30,6 +31,14 @@ class FirstFailure {
   }
   void rethrow_if_any() const {
     if (failure_) std::rethrow_exception(failure_);
+  }
+  std::string message() const {
+    try {
+      rethrow_if_any();
+    } catch (const std::exception& e) {
+      return e.what();
+    }
+    return {};
   }
 
  private:
@@ -88,14 +97,30 @@ void Solver::restore(double time, long steps, std::vector<MaterialPoint> points)
 
 void Solver::add_obstacle(Obstacle obstacle) { obstacles_.push_back(std::move(obstacle)); }
 
+void Solver::set_ranks(std::shared_ptr<const Ranks> ranks) { distribution_.set_ranks(std::move(ranks), laws_); }
+
+void Solver::share_point_states(const std::vector<std::uint32_t>& ids) {
+  distribution_.share_point_states(points_, laws_, ids);
+}
+
 TimeStepLimits Solver::time_step_limits() const {
-  return critical_time_step(grid_, points_, laws_, obstacles_, time_, settings_.time_step);
+  // A point's own limit is known only where its law's state is current: on the rank that updates it.
+  const auto here = [&](const MaterialPoint& mp) { return distribution_.updates_here(mp, laws_); };
+  TimeStepLimits limits = critical_time_step(grid_, points_, laws_, obstacles_, time_, settings_.time_step, here);
+  if (distribution_.spread()) limits.law = distribution_.ranks().min(limits.law);
+  return limits;
 }
 
 double Solver::stable_time_step() const { return std::min(time_step_limits().minimum(), settings_.max_time_step); }
 
 const MaterialPoint& Solver::law_limiting_point() const {
-  return points_[mpm::law_limiting_point(points_, laws_)];
+  const auto here = [&](const MaterialPoint& mp) { return distribution_.updates_here(mp, laws_); };
+  const std::size_t local = mpm::law_limiting_point(points_, laws_, here);
+  const auto [value, id] = distribution_.min_over_ranks(
+      {local < points_.size() ? law_limit_of(points_[local], laws_) : std::numeric_limits<double>::infinity(),
+       local < points_.size() ? points_[local].id : UINT32_MAX});
+  const auto at = std::find_if(points_.begin(), points_.end(), [id = id](const MaterialPoint& mp) { return mp.id == id; });
+  return at == points_.end() ? points_.front() : *at;
 }
 
 // One MUSL step, top to bottom (seed §2.1).
@@ -186,6 +211,8 @@ void Solver::update_stresses(double dt) {
   const int chunk = any_expensive_law ? 1 : 256;
   const double skip = settings_.skip_strain_increment;
   long skipped = 0;
+  // Which points skipped their call, for the ranks that did not update them (point_distribution.hpp).
+  std::vector<char> skipped_point(distribution_.spread() ? points_.size() : 0);
   FirstFailure failure;
 #pragma omp parallel for schedule(dynamic, chunk) reduction(+ : skipped) if (any_expensive_law || n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
@@ -195,6 +222,7 @@ void Solver::update_stresses(double dt) {
       mp.velocity_gradient = velocity_gradient(grid_, stencils_[p]);
       const KinematicIncrement step = KinematicIncrement::of_velocity_gradient(mp.velocity_gradient, dt);
       mp.deformation_gradient = step.F * mp.deformation_gradient;
+      if (!distribution_.updates_here(mp, laws_)) continue;  // its owner sends the rest
       const Mat2 pending = step.F * mp.pending_increment;
       const Mat2 pending_motion = pending - Mat2::Identity();
       const double pending_time = mp.pending_time + dt;
@@ -205,6 +233,7 @@ void Solver::update_stresses(double dt) {
         mp.pending_increment = pending;
         mp.pending_time = pending_time;
         ++skipped;
+        if (!skipped_point.empty()) skipped_point[p] = 1;
       } else {
         const KinematicIncrement increment =
             mp.pending_time == 0 ? step : KinematicIncrement::of_deformation(pending, pending_time);
@@ -217,6 +246,10 @@ void Solver::update_stresses(double dt) {
       failure.capture("material point " + std::to_string(mp.id) + " (law " + laws_[mp.law]->name() + ")" + at_time(time_),
                       e);
     }
+  }
+  if (distribution_.spread()) {
+    share_failure(distribution_.ranks(), failure.message());
+    skipped += distribution_.share_updates(points_, laws_, skipped_point);
   }
   failure.rethrow_if_any();
   skipped_updates_ += skipped;

@@ -12,6 +12,7 @@
 #include "mpm_solver/core/homogeneous_drive.hpp"
 #include "mpm_solver/core/material_point.hpp"
 #include "mpm_solver/core/obstacle.hpp"
+#include "mpm_solver/core/point_distribution.hpp"
 #include "mpm_solver/core/time_step.hpp"
 #include "mpm_solver/core/transfers.hpp"
 
@@ -49,6 +50,15 @@ class Solver {
   void set_gravity(const Gravity& gravity) { gravity_ = gravity; }
   // Drives the whole domain homogeneously from the next step on (see homogeneous_drive.hpp).
   void set_homogeneous_drive(std::optional<HomogeneousDrive> drive) { settings_.homogeneous_drive = drive; }
+
+  // Spreads the run over `ranks` (MPI): call after the laws are added, before the first step, on every
+  // rank alike. Throws std::invalid_argument when a law cannot run on several ranks. From then on
+  // step(), time_step_limits(), law_limiting_point() and share_point_states() are collective calls.
+  void set_ranks(std::shared_ptr<const Ranks> ranks);
+  const Ranks& ranks() const { return distribution_.ranks(); }
+  // Brings the law state of the points in `ids` (all when empty) to every rank; before anything
+  // reads a spread point's full state (a restart file, a tracked point's cell).
+  void share_point_states(const std::vector<std::uint32_t>& ids = {});
 
   // Criteria for the next step (their minimum, capped by max_time_step, is the step to take).
   TimeStepLimits time_step_limits() const;
@@ -99,6 +109,7 @@ class Solver {
   std::vector<Obstacle> obstacles_;
   Gravity gravity_;
   ScatterBuffers buffers_;
+  PointDistribution distribution_;
   double time_ = 0;
   long steps_ = 0;
   long skipped_updates_ = 0, point_updates_ = 0;

@@ -6,17 +6,14 @@
 
 namespace grainbank::mpm {
 
-namespace {
-
 double law_limit_of(const MaterialPoint& mp, const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws) {
   return laws[mp.law]->time_step_limit(mp.slot, mp.deformation_gradient, mp.velocity_gradient);
 }
 
-}  // namespace
-
 TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPoint>& points,
                                   const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws,
-                                  const std::vector<Obstacle>& obstacles, double time, const TimeStepFactors& factors) {
+                                  const std::vector<Obstacle>& obstacles, double time, const TimeStepFactors& factors,
+                                  const PointFilter& law_limit_counts) {
   double max_signal = 0, min_mass = std::numeric_limits<double>::infinity();
   double law_limit = std::numeric_limits<double>::infinity();
   const long n = static_cast<long>(points.size());
@@ -28,7 +25,7 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
     const double density = mp.mass / mp.volume;
     max_signal = std::max(max_signal, std::sqrt(law.p_wave_modulus(mp.slot) / density) + mp.velocity.norm());
     min_mass = std::min(min_mass, mp.mass);
-    law_limit = std::min(law_limit, law_limit_of(mp, laws));
+    if (!law_limit_counts || law_limit_counts(mp)) law_limit = std::min(law_limit, law_limit_of(mp, laws));
   }
   TimeStepLimits limits;
   if (max_signal > 0) limits.wave = factors.cfl * grid.cell_size() / max_signal;
@@ -41,11 +38,15 @@ TimeStepLimits critical_time_step(const Grid& grid, const std::vector<MaterialPo
 }
 
 std::size_t law_limiting_point(const std::vector<MaterialPoint>& points,
-                               const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws) {
-  const auto worst = std::min_element(points.begin(), points.end(), [&](const MaterialPoint& a, const MaterialPoint& b) {
-    return law_limit_of(a, laws) < law_limit_of(b, laws);
-  });
-  return static_cast<std::size_t>(worst - points.begin());
+                               const std::vector<std::unique_ptr<ConstitutiveLaw>>& laws, const PointFilter& counts) {
+  std::size_t worst = points.size();
+  double worst_limit = std::numeric_limits<double>::infinity();
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    if (counts && !counts(points[p])) continue;
+    const double limit = law_limit_of(points[p], laws);
+    if (worst == points.size() || limit < worst_limit) worst = p, worst_limit = limit;
+  }
+  return worst;
 }
 
 }  // namespace grainbank::mpm

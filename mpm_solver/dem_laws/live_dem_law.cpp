@@ -2,6 +2,8 @@
 
 #include <string>
 
+#include "dem_sampler/cell/cell_state_bytes.hpp"
+
 #include "mpm_solver/dem_laws/dem_material_input.hpp"
 #include "mpm_solver/laws/law_registry.hpp"
 
@@ -62,6 +64,27 @@ void LiveDemLaw::restore_state(LawStateReader& in) {
     if (holds.size() == cells_.size()) c.dispersed_holds = static_cast<std::uint64_t>(holds[slot]);
     measure(slot);
   }
+}
+
+void LiveDemLaw::write_summary(std::size_t slot, common::ByteWriter& out) const {
+  out.put(modulus_[slot]), out.put(damage_[slot]), out.put(counters_[slot]);
+}
+
+void LiveDemLaw::read_summary(std::size_t slot, common::ByteReader& in) {
+  modulus_[slot] = in.get<double>();
+  damage_[slot] = in.get<double>();
+  counters_[slot] = in.get<CouplingCounters>();
+}
+
+void LiveDemLaw::write_point_state(std::size_t slot, common::ByteWriter& out) const {
+  dem::write_cell_state(cells_[slot].state(), out);
+  out.put(counters_[slot]);
+}
+
+void LiveDemLaw::read_point_state(std::size_t slot, common::ByteReader& in) {
+  cells_[slot] = model_.cell_from(dem::read_cell_state(in));
+  counters_[slot] = in.get<CouplingCounters>();
+  measure(slot);
 }
 
 void LiveDemLaw::measure(std::size_t slot) {

@@ -8,11 +8,12 @@
 
 #include "mpm_solver/core/constitutive_law.hpp"
 #include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/core/point_sharing.hpp"
 #include "mpm_solver/dem_laws/live_cell_model.hpp"
 
 namespace grainbank::mpm {
 
-class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw {
+class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw, public PointSharing {
  public:
   // Keeps the template's state; each point gets its own DemCell rebuilt from it (never shared).
   LiveDemLaw(const dem::DemCell& cell_template, LiveDemSettings settings);
@@ -30,6 +31,13 @@ class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw {
   void save_state(LawStateWriter& out) const override;
   void restore_state(LawStateReader& in) override;
   const DemBackedLaw* dem_backed() const override { return this; }
+  // On several ranks, each point's cell is driven by one rank; the others keep its modulus, damage
+  // and counters (the summary), and receive the cell itself only when they must write it.
+  PointSharing* point_sharing() override { return this; }
+  void write_summary(std::size_t slot, common::ByteWriter& out) const override;
+  void read_summary(std::size_t slot, common::ByteReader& in) override;
+  void write_point_state(std::size_t slot, common::ByteWriter& out) const override;
+  void read_point_state(std::size_t slot, common::ByteReader& in) override;
 
   StressSource source(std::size_t) const override { return StressSource::live; }
   CouplingCounters point_counters(std::size_t slot) const override { return counters_[slot]; }

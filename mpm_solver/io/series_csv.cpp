@@ -23,9 +23,8 @@ SeriesCsv::SeriesCsv(const std::filesystem::path& file)
                         "hits,misses,live_cells,hit_rate,mean_estimated_error,went_live,warm_start_time,skipped_point_steps,"
                         "retilings,regenerations")) {}
 
-FlowMeasures SeriesCsv::write(const Solver& solver, double last_dt) {
+FlowMeasures SeriesCsv::write(const Solver& solver, double last_dt, const TimeStepLimits& limits) {
   const FlowMeasures m = measure_flow(solver.points());
-  const TimeStepLimits limits = solver.time_step_limits();
   out_ << solver.time() << ',' << last_dt << ',' << solver.steps() << ',' << m.kinetic_energy << ',' << m.front << ','
        << m.max_height << ',' << m.max_speed << ',' << limits.wave << ',' << limits.contact << ',' << limits.law;
   const StepCoupling c = step_coupling(solver);

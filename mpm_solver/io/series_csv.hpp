@@ -19,8 +19,9 @@ namespace grainbank::mpm::io {
 class SeriesCsv {
  public:
   explicit SeriesCsv(const std::filesystem::path& file);
-  // Returns the flow measures of the row (diagnostics.hpp), for callers that act on them.
-  FlowMeasures write(const Solver& solver, double last_dt);
+  // `limits` are the solver's time_step_limits() now (a collective call on several ranks, so the
+  // caller makes it); returns the flow measures of the row (diagnostics.hpp).
+  FlowMeasures write(const Solver& solver, double last_dt, const TimeStepLimits& limits);
 
  private:
   std::ofstream out_;

@@ -35,6 +35,7 @@ class DruckerPragerLaw : public ConstitutiveLaw {
   std::size_t add_point(PointStress& initial_stress) override;
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double p_wave_modulus(std::size_t) const override { return parameters_.elasticity.p_wave_modulus(); }
+  bool replicable() const override { return true; }
 
   // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense
   // above, for a step of dt (which only the rate-dependent cone uses).

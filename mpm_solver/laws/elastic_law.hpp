@@ -38,6 +38,7 @@ class ElasticLaw : public ConstitutiveLaw {
   std::size_t add_point(PointStress& initial_stress) override;
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
   double p_wave_modulus(std::size_t) const override { return elasticity_.p_wave_modulus(); }
+  bool replicable() const override { return true; }
 
  private:
   double density_;

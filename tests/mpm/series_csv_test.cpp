@@ -27,7 +27,7 @@ TEST(SeriesCsv, EveryRowIsOnDiskWhileTheWriterIsOpen) {
   io::TrackedCsv tracked(dir.path() / "tracked.csv", {solver.points()[0].id});
   for (int row = 1; row <= 3; ++row) {
     solver.step(1e-4);
-    series.write(solver, 1e-4);
+    series.write(solver, 1e-4, solver.time_step_limits());
     tracked.write(solver);
     EXPECT_EQ(lines_on_disk(dir.path() / "series.csv"), 1 + row);
     EXPECT_EQ(lines_on_disk(dir.path() / "tracked.csv"), 1 + row);

@@ -1,0 +1,24 @@
+// The side of a constitutive law whose points hold heavy state (a live DEM cell each) that lets a run
+// spread those points over ranks (ranks.hpp): each point is updated on one rank, its owner, and the
+// other ranks answer the solver's questions about it (p_wave_modulus, damage, the DemBackedLaw
+// counters) from the summary the owner sends after every update. The full state of a point moves
+// only when one rank must hold all of them: to write a restart file or a tracked point's cell.
+#pragma once
+#include <cstddef>
+
+#include "common/byte_buffer.hpp"
+
+namespace grainbank::mpm {
+
+class PointSharing {
+ public:
+  virtual ~PointSharing() = default;
+  // What the other ranks need of `slot` after its update: small (it goes out every step).
+  virtual void write_summary(std::size_t slot, common::ByteWriter& out) const = 0;
+  virtual void read_summary(std::size_t slot, common::ByteReader& in) = 0;
+  // Everything the slot carries, so that the receiving rank continues it bit for bit.
+  virtual void write_point_state(std::size_t slot, common::ByteWriter& out) const = 0;
+  virtual void read_point_state(std::size_t slot, common::ByteReader& in) = 0;
+};
+
+}  // namespace grainbank::mpm
