@@ -137,7 +137,9 @@ int run_main(int argc, char** argv, const std::shared_ptr<const grainbank::mpm::
     std::fprintf(stderr,
                  "mpm_solver: interrupted by %s at t = %.17g s (step %ld); restart written to %s; to resume, run the "
                  "same command with --restart %s and another --out\n",
-                 strsignal(grainbank::common::stop_signal()), summary["final_time"].get<double>(),
+                 grainbank::common::stop_signal() ? strsignal(grainbank::common::stop_signal())
+                                                  : "a signal to another MPI rank",
+                 summary["final_time"].get<double>(),
                  summary["steps"].get<long>(), restart.c_str(), restart.c_str());
     return 1;
   }
