@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -90,6 +91,34 @@ std::string time_step_collapse(const Solver& solver, double stable, double floor
            "or look for a point whose mass is tiny";
   }
   return msg.str();
+}
+
+// Sums each rank's doubles element by element, on every rank.
+std::vector<double> sum_over_ranks(const std::vector<double>& mine, const Ranks& ranks) {
+  const std::vector<char> bytes(reinterpret_cast<const char*>(mine.data()),
+                                reinterpret_cast<const char*>(mine.data() + mine.size()));
+  std::vector<double> total(mine.size(), 0.0);
+  for (const std::vector<char>& other : ranks.all_gather(bytes)) {
+    std::vector<double> values(other.size() / sizeof(double));
+    std::memcpy(values.data(), other.data(), values.size() * sizeof(double));
+    for (std::size_t k = 0; k < std::min(values.size(), total.size()); ++k) total[k] += values[k];
+  }
+  return total;
+}
+
+// What each rank's costly points took, and what each of them cost (collective): the
+// inputs of the MPI scaling model (workflows/mpi_scaling). Per point: seconds of its constitutive
+// calls per step, for the points of laws spread over ranks (live cells).
+nlohmann::json load_balance(const Solver& solver, const Ranks& ranks) {
+  // The constitutive work of each rank, without its waits for the others.
+  std::vector<double> by_rank(static_cast<std::size_t>(ranks.size()), 0.0);
+  for (double seconds : solver.point_update_seconds()) by_rank[static_cast<std::size_t>(ranks.rank())] += seconds;
+  const double steps = std::max(1.0, static_cast<double>(solver.steps()));
+  std::vector<double> per_point = sum_over_ranks(solver.point_update_seconds(), ranks);
+  for (double& seconds : per_point) seconds /= steps;
+  return {{"update_seconds_by_rank", sum_over_ranks(by_rank, ranks)},
+          {"shared_bytes_per_step", solver.shared_update_bytes() / steps},
+          {"point_update_seconds_per_step", per_point}};
 }
 
 }  // namespace
@@ -250,6 +279,7 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"kinetic_energy_peak_since", run_record.kinetic_energy_peak_since},
       {"restart", restart.string()}};
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
+  summary["load"] = load_balance(solver, *ranks);
   solver.finish();
   summary["coupling"] = io::coupling_summary(solver);
   on_root([&] { std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n'; });

@@ -49,6 +49,7 @@ long PointDistribution::share_updates(std::vector<MaterialPoint>& points, const 
     laws[mp.law]->point_sharing()->write_summary(mp.slot, mine);
   }
   const std::vector<std::vector<char>> all = ranks_->all_gather(mine.bytes());
+  for (const std::vector<char>& message : all) shared_update_bytes_ += static_cast<double>(message.size());
   const std::vector<std::uint32_t> index = index_of_ids(points);
   long skipped_elsewhere = 0;
   for (int r = 0; r < ranks_->size(); ++r) {

@@ -41,9 +41,12 @@ class PointDistribution {
   // The point with the smallest value among those each rank offers (value, point id), on every rank;
   // ties go to the lower id. {inf, UINT32_MAX} when no rank offers one.
   std::pair<double, std::uint32_t> min_over_ranks(std::pair<double, std::uint32_t> mine) const;
+  // Bytes all ranks sent in share_updates so far (each rank receives them all).
+  double shared_update_bytes() const { return shared_update_bytes_; }
 
  private:
   std::shared_ptr<const Ranks> ranks_;
+  mutable double shared_update_bytes_ = 0;
 };
 
 }  // namespace grainbank::mpm

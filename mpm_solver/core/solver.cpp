@@ -83,6 +83,7 @@ std::uint32_t Solver::add_point(std::size_t law, const Vec2& position, double vo
   mp.position = position;
   mp.velocity = velocity;
   points_.push_back(mp);
+  point_update_seconds_.push_back(0);
   return mp.id;
 }
 
@@ -104,9 +105,13 @@ void Solver::share_point_states(const std::vector<std::uint32_t>& ids) {
 }
 
 TimeStepLimits Solver::time_step_limits() const {
-  // A point's own limit is known only where its law's state is current: on the rank that updates it.
-  const auto here = [&](const MaterialPoint& mp) { return distribution_.updates_here(mp, laws_); };
-  TimeStepLimits limits = critical_time_step(grid_, points_, laws_, obstacles_, time_, settings_.time_step, here);
+  const auto replicated = [&](const MaterialPoint& mp) { return !laws_[mp.law]->point_sharing(); };
+  TimeStepLimits limits = critical_time_step(grid_, points_, laws_, obstacles_, time_, settings_.time_step, replicated);
+  // The own limit of a spread point (a live cell's seed Eq. 4) needs its current state: the rank
+  // that updates it computes it, as part of the point's cost.
+  for (const MaterialPoint& mp : points_)
+    if (!replicated(mp) && distribution_.updates_here(mp, laws_))
+      timed(point_update_seconds_[mp.id], [&] { limits.law = std::min(limits.law, law_limit_of(mp, laws_)); });
   if (distribution_.spread()) limits.law = distribution_.ranks().min(limits.law);
   return limits;
 }
@@ -223,6 +228,7 @@ void Solver::update_stresses(double dt) {
       const KinematicIncrement step = KinematicIncrement::of_velocity_gradient(mp.velocity_gradient, dt);
       mp.deformation_gradient = step.F * mp.deformation_gradient;
       if (!distribution_.updates_here(mp, laws_)) continue;  // its owner sends the rest
+      const auto owner_start = std::chrono::steady_clock::now();
       const Mat2 pending = step.F * mp.pending_increment;
       const Mat2 pending_motion = pending - Mat2::Identity();
       const double pending_time = mp.pending_time + dt;
@@ -242,6 +248,9 @@ void Solver::update_stresses(double dt) {
         mp.pending_time = 0;
       }
       mp.volume = mp.initial_volume * law.volume_ratio(mp.slot, mp.deformation_gradient);
+      if (law.point_sharing())
+        point_update_seconds_[mp.id] +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - owner_start).count();
     } catch (const std::exception& e) {
       failure.capture("material point " + std::to_string(mp.id) + " (law " + laws_[mp.law]->name() + ")" + at_time(time_),
                       e);

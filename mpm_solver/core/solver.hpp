@@ -87,6 +87,12 @@ class Solver {
   // Point-steps that skipped the constitutive call (skip_strain_increment), and all point-steps.
   long skipped_updates() const { return skipped_updates_; }
   long point_updates() const { return point_updates_; }
+  // Wall time spent on each point's law state on this rank so far [s] (its constitutive calls and its
+  // own time-step limit), by point id, for the points of laws spread over ranks (PointSharing: the
+  // costly ones); 0 for the others.
+  const std::vector<double>& point_update_seconds() const { return point_update_seconds_; }
+  // Bytes the ranks exchanged after the stress updates so far (0 on one rank).
+  double shared_update_bytes() const { return distribution_.shared_update_bytes(); }
 
   // Restart support: mutable access to the laws and obstacles (whose states a restart file
   // restores), and replacement of the time, step count and points of a solver built from the same
@@ -113,6 +119,7 @@ class Solver {
   double time_ = 0;
   long steps_ = 0;
   long skipped_updates_ = 0, point_updates_ = 0;
+  mutable std::vector<double> point_update_seconds_;  // time_step_limits() adds to it
   PhaseTimes phase_times_;
 };
 

@@ -37,13 +37,18 @@ def write_csv(file, rows):
         writer.writerows(rows)
 
 
-def write_markdown(file, rows, formats=None):
-    """A Markdown table of `rows`; formats: column → format spec (default: 4 significant digits for
-    floats, str otherwise); None is written as "–" (not measured)."""
+def markdown(rows, formats=None):
+    """A Markdown table of `rows` (dicts with the same keys, the header); formats: column → format spec
+    (default: 4 significant digits for floats, str otherwise); None is written as "–" (not measured)."""
     columns = list(rows[0])
     lines = ["| " + " | ".join(columns) + " |", "|" + "---|" * len(columns)]
     for row in rows:
         cells = ("–" if row[c] is None else format(row[c], (formats or {}).get(c, ".4g" if isinstance(row[c], float) else ""))
                  for c in columns)
         lines.append("| " + " | ".join(cells) + " |")
-    Path(file).write_text("\n".join(lines) + "\n")
+    return "\n".join(lines) + "\n"
+
+
+def write_markdown(file, rows, formats=None):
+    """markdown(rows, formats) into `file`."""
+    Path(file).write_text(markdown(rows, formats))
