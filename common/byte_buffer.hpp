@@ -22,8 +22,9 @@ class ByteWriter {
   // A count, then the elements.
   template <class T>
   void put_vector(const std::vector<T>& values) {
+    static_assert(std::is_trivially_copyable_v<T>);
     put<std::uint64_t>(values.size());
-    for (const T& v : values) put(v);
+    put_raw(values.data(), values.size() * sizeof(T));
   }
   // A fixed-size Eigen matrix (not trivially copyable by the language's rules, plain doubles in fact).
   template <class Matrix>
@@ -56,7 +57,14 @@ class ByteReader {
   }
   template <class T>
   std::vector<T> get_vector() {
-    return get_each([this] { return get<T>(); });
+    static_assert(std::is_trivially_copyable_v<T>);
+    const auto count = get<std::uint64_t>();
+    if (count > remaining() / sizeof(T))
+      throw std::runtime_error("byte message: " + std::to_string(count) + " elements in " +
+                               std::to_string(remaining()) + " bytes");
+    std::vector<T> values(count);
+    get_raw(values.data(), count * sizeof(T));
+    return values;
   }
   template <class Matrix>
   Matrix get_matrix() {
@@ -81,6 +89,15 @@ class ByteReader {
                                std::to_string(remaining()) + " left");
     std::memcpy(out, data_ + offset_, size);
     offset_ += size;
+  }
+  // The next `size` bytes as a reader of their own, skipped here.
+  ByteReader take(std::size_t size) {
+    if (size > remaining())
+      throw std::runtime_error("byte message: " + std::to_string(size) + " bytes asked, " +
+                               std::to_string(remaining()) + " left");
+    ByteReader part(data_ + offset_, size);
+    offset_ += size;
+    return part;
   }
   std::size_t remaining() const { return size_ - offset_; }
   bool at_end() const { return offset_ == size_; }

@@ -118,6 +118,7 @@ nlohmann::json load_balance(const Solver& solver, const Ranks& ranks) {
   for (double& seconds : per_point) seconds /= steps;
   return {{"update_seconds_by_rank", sum_over_ranks(by_rank, ranks)},
           {"shared_bytes_per_step", solver.shared_update_bytes() / steps},
+          {"rebalanced_points", solver.rebalanced_points()},
           {"point_update_seconds_per_step", per_point}};
 }
 

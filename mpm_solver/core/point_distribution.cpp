@@ -69,17 +69,16 @@ long PointDistribution::share_updates(std::vector<MaterialPoint>& points, const 
   return skipped_elsewhere;
 }
 
-void PointDistribution::share_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
-                                           const std::vector<std::uint32_t>& ids) const {
-  if (!spread()) return;
-  const auto wanted = [&](const MaterialPoint& mp) {
-    return spread_point(mp, laws) && (ids.empty() || std::find(ids.begin(), ids.end(), mp.id) != ids.end());
-  };
+template <class Send, class Receive>
+void PointDistribution::move_point_states(const std::vector<MaterialPoint>& points, const Laws& laws, Send&& send,
+                                          Receive&& receive) const {
   common::ByteWriter mine;
   for (const MaterialPoint& mp : points) {
-    if (!wanted(mp) || !updates_here(mp, laws)) continue;
+    if (!spread_point(mp, laws) || !send(mp)) continue;
+    common::ByteWriter state;
+    laws[mp.law]->point_sharing()->write_point_state(mp.slot, state);
     mine.put(mp.id);
-    laws[mp.law]->point_sharing()->write_point_state(mp.slot, mine);
+    mine.put_vector(state.bytes());
   }
   const std::vector<std::vector<char>> all = ranks_->all_gather(mine.bytes());
   const std::vector<std::uint32_t> index = index_of_ids(points);
@@ -88,9 +87,54 @@ void PointDistribution::share_point_states(const std::vector<MaterialPoint>& poi
     common::ByteReader in(all[r]);
     while (!in.at_end()) {
       const MaterialPoint& mp = points.at(index.at(in.get<std::uint32_t>()));
-      laws[mp.law]->point_sharing()->read_point_state(mp.slot, in);
+      common::ByteReader state = in.take(in.get<std::uint64_t>());
+      if (receive(mp)) laws[mp.law]->point_sharing()->read_point_state(mp.slot, state);
     }
   }
+}
+
+void PointDistribution::share_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
+                                           const std::vector<std::uint32_t>& ids) const {
+  if (!spread()) return;
+  const auto wanted = [&](const MaterialPoint& mp) {
+    return ids.empty() || std::find(ids.begin(), ids.end(), mp.id) != ids.end();
+  };
+  move_point_states(
+      points, laws, [&](const MaterialPoint& mp) { return wanted(mp) && updates_here(mp, laws); }, wanted);
+}
+
+std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& points, const Laws& laws,
+                                         const std::vector<double>& seconds) {
+  if (!spread()) return 0;
+  // Every rank's costs, summed: each point's cost is known on its owner only.
+  const std::vector<char> bytes(reinterpret_cast<const char*>(seconds.data()),
+                                reinterpret_cast<const char*>(seconds.data() + seconds.size()));
+  std::vector<double> cost(seconds.size(), 0.0);
+  for (const std::vector<char>& other : ranks_->all_gather(bytes)) {
+    common::ByteReader in(other);
+    for (double& c : cost) c += in.get<double>();
+  }
+  std::vector<std::uint32_t> order;
+  for (const MaterialPoint& mp : points)
+    if (spread_point(mp, laws)) order.push_back(mp.id);
+  std::sort(order.begin(), order.end(),
+            [&](std::uint32_t a, std::uint32_t b) { return cost[a] > cost[b] || (cost[a] == cost[b] && a < b); });
+  std::vector<int> dealt(points.size(), 0);
+  for (std::uint32_t id = 0; id < dealt.size(); ++id) dealt[id] = owner(id);
+  std::vector<double> load(static_cast<std::size_t>(ranks_->size()), 0.0);
+  for (std::uint32_t id : order) {
+    const auto least = std::min_element(load.begin(), load.end()) - load.begin();
+    dealt[id] = static_cast<int>(least);
+    load[static_cast<std::size_t>(least)] += cost[id];
+  }
+  std::size_t moved = 0;
+  for (std::uint32_t id : order) moved += dealt[id] != owner(id);
+  move_point_states(
+      points, laws, [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && updates_here(mp, laws); },
+      [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && dealt[mp.id] == ranks_->rank(); });
+  owner_ = std::move(dealt);
+  moved_points_ += moved;
+  return moved;
 }
 
 std::pair<double, std::uint32_t> PointDistribution::min_over_ranks(std::pair<double, std::uint32_t> mine) const {

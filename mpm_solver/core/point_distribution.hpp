@@ -1,6 +1,7 @@
 // How a solver spreads its point updates over ranks (ranks.hpp). The points of a law with a
-// PointSharing are dealt out by id (point id mod ranks), so a point stays on its rank however the
-// points are sorted; every other point is updated on every rank alike. After each stress update the
+// PointSharing are first dealt out by id (point id mod ranks), so a point stays on its rank however
+// the points are sorted, then re-dealt by their measured cost (rebalance); every other point is
+// updated on every rank alike. After each stress update the
 // owners send what changed (stress, volume, pending motion, the law's summary of the point), so all
 // ranks hold the same points to the last bit and the MPM, stepped alike everywhere, stays identical.
 #pragma once
@@ -28,8 +29,16 @@ class PointDistribution {
 
   // Whether this rank updates the point (always, on one rank).
   bool updates_here(const MaterialPoint& mp, const Laws& laws) const {
-    return !spread() || !laws[mp.law]->point_sharing() || int(mp.id % std::uint32_t(ranks_->size())) == ranks_->rank();
+    return !spread() || !laws[mp.law]->point_sharing() || owner(mp.id) == ranks_->rank();
   }
+
+  // Deals the spread points out anew by what they cost since the last call (`seconds` by point id:
+  // this rank's own points, 0 for the others): the costliest first, each onto the rank with the least
+  // load so far (ties: the lower id, the lower rank), so every rank computes the same deal; then
+  // moves the state of every point that changes rank. Returns the number of points moved (collective).
+  std::size_t rebalance(const std::vector<MaterialPoint>& points, const Laws& laws, const std::vector<double>& seconds);
+  // Points moved by rebalance so far.
+  std::size_t moved_points() const { return moved_points_; }
 
   // After every rank updated its own points: every spread point as its owner left it. `skipped[p]`
   // tells whether points[p] skipped its constitutive call; returns the number of such skips among
@@ -45,8 +54,19 @@ class PointDistribution {
   double shared_update_bytes() const { return shared_update_bytes_; }
 
  private:
+  int owner(std::uint32_t id) const {
+    return owner_.empty() ? int(id % std::uint32_t(ranks_->size())) : owner_[id];
+  }
+  // Sends the full state of every spread point `send` accepts from this rank to all; reads those of
+  // other ranks' points that `receive` accepts.
+  template <class Send, class Receive>
+  void move_point_states(const std::vector<MaterialPoint>& points, const Laws& laws, Send&& send,
+                         Receive&& receive) const;
+
   std::shared_ptr<const Ranks> ranks_;
+  std::vector<int> owner_;  // rank of each point id (empty: dealt by id, id mod ranks)
   mutable double shared_update_bytes_ = 0;
+  std::size_t moved_points_ = 0;
 };
 
 }  // namespace grainbank::mpm

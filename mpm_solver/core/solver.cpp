@@ -61,6 +61,7 @@ Solver::Solver(Grid grid, SolverSettings settings)
     throw std::invalid_argument("skip_strain_increment: expected a number >= 0");
   if (!(settings_.max_time_step > 0)) throw std::invalid_argument("max_time_step: expected a positive number");
   if (settings_.sort_interval < 1) throw std::invalid_argument("sort_interval: expected an integer >= 1");
+  if (settings_.rebalance_interval < 1) throw std::invalid_argument("rebalance_interval: expected an integer >= 1");
 }
 
 std::size_t Solver::add_law(std::unique_ptr<ConstitutiveLaw> law) {
@@ -136,6 +137,7 @@ void Solver::finish() {
 void Solver::step(double dt) {
   if (!(dt > 0)) throw std::invalid_argument("step: expected a positive time step");
   if (steps_ % settings_.sort_interval == 0) timed(phase_times_.sort, [&] { sort_points_by_cell(); });
+  if (distribution_.spread() && steps_ > 0 && steps_ % settings_.rebalance_interval == 0) rebalance();
   locate_points();
   timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
   timed(phase_times_.particles_to_grid, [&] { particles_to_grid(grid_, points_, stencils_, buffers_); });
@@ -151,6 +153,15 @@ void Solver::step(double dt) {
   timed(phase_times_.stress, [&] { update_stresses(dt); });
   time_ += dt;
   ++steps_;
+}
+
+void Solver::rebalance() {
+  point_update_seconds_at_rebalance_.resize(point_update_seconds_.size(), 0.0);
+  std::vector<double> since(point_update_seconds_.size());
+  for (std::size_t id = 0; id < since.size(); ++id)
+    since[id] = point_update_seconds_[id] - point_update_seconds_at_rebalance_[id];
+  point_update_seconds_at_rebalance_ = point_update_seconds_;
+  distribution_.rebalance(points_, laws_, since);
 }
 
 void Solver::sort_points_by_cell() {

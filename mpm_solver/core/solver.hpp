@@ -28,6 +28,9 @@ struct SolverSettings {
   // its stress, which lags the motion by at most this relative amount. The law later receives the
   // whole pending motion with the time it took. 0 = never skip.
   double skip_strain_increment = 0;
+  // On several ranks, the live cells are re-dealt by their measured cost every this many steps
+  // (PointDistribution::rebalance).
+  int rebalance_interval = 50;
   // When set, the whole domain is driven homogeneously (element tests); forces are then ignored.
   std::optional<HomogeneousDrive> homogeneous_drive;
 };
@@ -93,6 +96,8 @@ class Solver {
   const std::vector<double>& point_update_seconds() const { return point_update_seconds_; }
   // Bytes the ranks exchanged after the stress updates so far (0 on one rank).
   double shared_update_bytes() const { return distribution_.shared_update_bytes(); }
+  // Points whose law state moved to another rank to balance the load so far (0 on one rank).
+  std::size_t rebalanced_points() const { return distribution_.moved_points(); }
 
   // Restart support: mutable access to the laws and obstacles (whose states a restart file
   // restores), and replacement of the time, step count and points of a solver built from the same
@@ -103,6 +108,7 @@ class Solver {
 
  private:
   void sort_points_by_cell();
+  void rebalance();  // re-deals the spread points by their cost since the last call
   void locate_points();           // stencils; throws if a point left the grid
   void apply_obstacle_contacts(double dt);
   void update_stresses(double dt);
@@ -120,6 +126,7 @@ class Solver {
   long steps_ = 0;
   long skipped_updates_ = 0, point_updates_ = 0;
   mutable std::vector<double> point_update_seconds_;  // time_step_limits() adds to it
+  std::vector<double> point_update_seconds_at_rebalance_;
   PhaseTimes phase_times_;
 };
 

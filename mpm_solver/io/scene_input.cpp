@@ -170,12 +170,15 @@ Scene load_scene(const std::filesystem::path& file) {
       flip->fail("the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": {\"pic_rate\": 5}} (the "
                  "default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: "
                  "r = -ln(f) / dt)");
-    integration->allow_only({"transfer", "sort_interval", "skip_strain_increment", "homogeneous_drive"});
+    integration->allow_only(
+        {"transfer", "sort_interval", "skip_strain_increment", "homogeneous_drive", "rebalance_interval"});
     if (const auto transfer = integration->find("transfer")) settings.transfer = read_transfer(*transfer);
     if (const auto drive = integration->find("homogeneous_drive")) settings.homogeneous_drive = read_homogeneous_drive(*drive);
     settings.skip_strain_increment =
         integration->number_or("skip_strain_increment", settings.skip_strain_increment, Range::at_least(0));
     settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
+    settings.rebalance_interval =
+        static_cast<int>(integration->integer_or("rebalance_interval", settings.rebalance_interval, 1, 1000000000));
   }
   const JsonNode grid = root.at("grid", "an object with cell_size and cells");
   scene.solver = std::make_unique<Solver>(common::at_node(grid, [&] { return read_grid(grid); }), settings);
