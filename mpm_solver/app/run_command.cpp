@@ -60,10 +60,10 @@ std::filesystem::path scene_of_run(const RunOptions& o, bool write) {
   return rewritten;
 }
 
-io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file) {
-  if (file == o.scene) return io::load_scene(file);
+io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file, int ranks) {
+  if (file == o.scene) return io::load_scene(file, ranks);
   try {
-    return io::load_scene(file);
+    return io::load_scene(file, ranks);
   } catch (const common::InputError& e) {
     throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by the command line: " +
                              file.string() + ")");
@@ -145,7 +145,7 @@ nlohmann::json run_scene(const RunOptions& options) {
     scene_of_run(options, true);
   });
   const std::filesystem::path scene_file = scene_of_run(options, false);
-  io::Scene scene = load_scene(options, scene_file);
+  io::Scene scene = load_scene(options, scene_file, ranks->size());
   Solver& solver = *scene.solver;
   solver.set_ranks(ranks);
   io::RunRecord run_record;

@@ -58,6 +58,9 @@ class LibraryLaw : public ConstitutiveLaw, public DemBackedLaw {
   double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return points_[slot].damage; }
   bool expensive() const override { return live_points_ > 0; }
+  // The cache law's answers depend on the point and the (read-only) library alone: every rank of a
+  // spread run can give them. Hybrid points turn live and write enrichment: one rank only.
+  bool replicable() const override { return settings_.fallback == Fallback::none; }
   // Per point its damage, whether it is live, its steps inside the tolerance, its replay history and
   // its live cell. A restored live point starts a new enriched path.
   void save_state(LawStateWriter& out) const override;

@@ -81,7 +81,7 @@ std::unique_ptr<ConstitutiveLaw> read_hybrid(const JsonNode& material, const Law
   return read(material, scene, true);
 }
 
-const LawRegistration cache{{"cache", kCacheKeys, true, &read_cache}};
+const LawRegistration cache{{"cache", kCacheKeys, true, &read_cache, true}};
 const LawRegistration hybrid{{"hybrid", kHybridKeys, true, &read_hybrid}};
 
 }  // namespace

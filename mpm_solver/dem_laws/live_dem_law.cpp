@@ -114,7 +114,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   return common::at_node(material, [&] { return std::make_unique<LiveDemLaw>(cell, settings); });
 }
 
-const LawRegistration registration{{"live", kKeys, true, &read}};
+const LawRegistration registration{{"live", kKeys, true, &read, true}};
 
 }  // namespace
 

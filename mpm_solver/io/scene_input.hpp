@@ -37,7 +37,7 @@ struct Scene {
 };
 
 // Reads and builds the scene (live cells are prepared or loaded here). Paths inside the scene are
-// relative to its folder.
-Scene load_scene(const std::filesystem::path& file);
+// relative to its folder. A scene for a run on `ranks` MPI ranks refuses laws that cannot run there.
+Scene load_scene(const std::filesystem::path& file, int ranks = 1);
 
 }  // namespace grainbank::mpm::io

@@ -93,7 +93,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   });
 }
 
-const LawRegistration registration{{"drucker_prager", kKeys, false, &read}};
+const LawRegistration registration{{"drucker_prager", kKeys, false, &read, true}};
 
 }  // namespace
 

@@ -62,7 +62,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   });
 }
 
-const LawRegistration registration{{"elastic", kKeys, false, &read}};
+const LawRegistration registration{{"elastic", kKeys, false, &read, true}};
 
 }  // namespace
 

@@ -55,6 +55,10 @@ std::unique_ptr<ConstitutiveLaw> read_law(const common::JsonNode& material, cons
   const std::optional<LawKind> kind = find_law_kind(law.string());
   if (!kind) law.fail_expected(law_names());
   material.allow_only(kind->keys);
+  if (scene.ranks > 1 && !kind->runs_on_ranks)
+    law.fail("law \"" + std::string(kind->name) + "\" cannot run on " + std::to_string(scene.ranks) +
+             " MPI ranks (its points turn live, learn or write the library as the run goes): run this scene "
+             "without mpirun, on the threads of one process");
   return kind->read(material, scene);
 }
 

@@ -1,6 +1,6 @@
 // The constitutive laws a scene can name, each registered by the file that defines it (the way
 // LAMMPS styles register): a law file ends with
-//   const LawRegistration registration{{"name", keys, dem_backed, &read}};
+//   const LawRegistration registration{{"name", keys, dem_backed, &read, runs_on_ranks}};
 // and nothing else in the tree lists laws. The scene reader, `mpm_solver laws` and the scene
 // overrides ask this registry.
 //
@@ -30,6 +30,7 @@ struct DemEffects {
 struct LawContext {
   std::filesystem::path folder;  // the scene file's folder: relative file names are resolved here
   DemEffects effects;
+  int ranks = 1;  // the MPI ranks the run is spread over (core/ranks.hpp)
 };
 
 using LawReader = std::unique_ptr<ConstitutiveLaw> (*)(const common::JsonNode& material, const LawContext& scene);
@@ -39,6 +40,10 @@ struct LawKind {
   std::span<const std::string_view> keys;  // every key its material object may have, "name" and "law" included
   bool dem_backed = false;                // its points are answered by DEM cells (live or from a library)
   LawReader read = nullptr;               // builds the law; errors name the file and JSON pointer
+  // The law runs on several MPI ranks (its instances are replicable() or have a point_sharing()):
+  // a scene on several ranks refuses any other before building it (building may take a library's
+  // writer lock, which only one rank would get).
+  bool runs_on_ranks = false;
 };
 
 // All registered kinds, sorted by name.

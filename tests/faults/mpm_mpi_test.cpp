@@ -57,11 +57,12 @@ const char* const kScene = R"({
 })";
 
 std::vector<std::string> mpm_solver(int ranks, const fs::path& scene, const fs::path& out,
-                                    std::vector<std::string> extra = {}) {
+                                    std::vector<std::string> extra = {}, int threads = 1) {
   std::vector<std::string> args;
   if (ranks > 1)
     args = {MPIEXEC_BINARY, "--allow-run-as-root", "--oversubscribe", "-n", std::to_string(ranks)};
-  args.insert(args.end(), {MPM_SOLVER_BINARY, scene.string(), "--out", out.string(), "--threads", "1"});
+  args.insert(args.end(),
+              {MPM_SOLVER_BINARY, scene.string(), "--out", out.string(), "--threads", std::to_string(threads)});
   args.insert(args.end(), extra.begin(), extra.end());
   return args;
 }
@@ -122,9 +123,9 @@ class MpmMpi : public ::testing::Test {
 TempDir* MpmMpi::dir_ = nullptr;
 fs::path MpmMpi::scene_;
 
-TEST_F(MpmMpi, TwoRanksEndInTheStateOfOneRankBitForBit) {
+TEST_F(MpmMpi, TwoRanksOfTwoThreadsEndInTheStateOfOneRankOfOneThreadBitForBit) {
   const TempDir here("gb-mpm-mpi-two");
-  const Outcome r = sampler::test::run(mpm_solver(2, scene_, here.path() / "two"), here.path());
+  const Outcome r = sampler::test::run(mpm_solver(2, scene_, here.path() / "two", {}, 2), here.path());
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const nlohmann::json summary = nlohmann::json::parse(std::ifstream(here.path() / "two" / "summary.json"));
   EXPECT_EQ(summary["mpi_ranks"].get<int>(), 2);
@@ -188,6 +189,23 @@ TEST_F(MpmMpi, ACellFailingOnRankOneStopsBothRanksWithOneMessageNamingThePoint) 
   for (std::size_t at = r.err.find("mpm_solver: "); at != std::string::npos; at = r.err.find("mpm_solver: ", at + 1))
     ++messages;
   EXPECT_EQ(messages, 1u) << r.err;
+}
+
+// A hybrid point may turn live, learn and write the library mid-run: such a law is not spread yet, and
+// says so before anything runs.
+TEST_F(MpmMpi, AHybridSceneOnTwoRanksStopsBeforeItStartsNamingTheLaw) {
+  const TempDir here("gb-mpm-mpi-hybrid");
+  const fs::path cell = here.write("cell.json", kCell), library = here.path() / "lib";
+  const Outcome prepared = sampler::test::run({DEM_SAMPLER_BINARY, "prepare", cell.string(), "--library",
+                                               library.string()}, here.path());
+  ASSERT_EQ(prepared.exit_code, 0) << prepared.err;
+  const fs::path out = here.path() / "out";
+  const Outcome r = sampler::test::run(
+      mpm_solver(2, scene_, out, {"--law", "hybrid", "--library", library.string()}), here.path());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("/materials/0/law: law \"hybrid\" cannot run on 2 MPI ranks"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("without mpirun"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out / "points_000000.vtu")) << "the run started";
 }
 
 // The pid of the process of rank `rank` of the mpirun job whose command line names `out`.
