@@ -60,10 +60,10 @@ std::filesystem::path scene_of_run(const RunOptions& o, bool write) {
   return rewritten;
 }
 
-io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file, int ranks) {
-  if (file == o.scene) return io::load_scene(file, ranks);
+io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file, const Ranks& ranks) {
+  if (file == o.scene) return io::load_scene(file, ranks.rank(), ranks.size());
   try {
-    return io::load_scene(file, ranks);
+    return io::load_scene(file, ranks.rank(), ranks.size());
   } catch (const common::InputError& e) {
     throw common::InputError(std::string(e.what()) + " (in the scene as rewritten by the command line: " +
                              file.string() + ")");
@@ -145,7 +145,7 @@ nlohmann::json run_scene(const RunOptions& options) {
     scene_of_run(options, true);
   });
   const std::filesystem::path scene_file = scene_of_run(options, false);
-  io::Scene scene = load_scene(options, scene_file, ranks->size());
+  io::Scene scene = load_scene(options, scene_file, *ranks);
   Solver& solver = *scene.solver;
   solver.set_ranks(ranks);
   io::RunRecord run_record;

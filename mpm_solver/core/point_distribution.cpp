@@ -121,17 +121,26 @@ std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& point
             [&](std::uint32_t a, std::uint32_t b) { return cost[a] > cost[b] || (cost[a] == cost[b] && a < b); });
   std::vector<int> dealt(points.size(), 0);
   for (std::uint32_t id = 0; id < dealt.size(); ++id) dealt[id] = owner(id);
+  // A point stays where it is while its rank stays within kLoadTolerance of an even share: moving
+  // costs a state transfer (a whole cell), and a hybrid point's enriched path ends at each move.
+  double total = 0;
+  for (std::uint32_t id : order) total += cost[id];
+  const double share = total / ranks_->size() * (1 + kLoadTolerance);
   std::vector<double> load(static_cast<std::size_t>(ranks_->size()), 0.0);
   for (std::uint32_t id : order) {
-    const auto least = std::min_element(load.begin(), load.end()) - load.begin();
-    dealt[id] = static_cast<int>(least);
-    load[static_cast<std::size_t>(least)] += cost[id];
+    auto rank = static_cast<std::size_t>(owner(id));
+    if (load[rank] + cost[id] > share) rank = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    dealt[id] = static_cast<int>(rank);
+    load[rank] += cost[id];
   }
   std::size_t moved = 0;
   for (std::uint32_t id : order) moved += dealt[id] != owner(id);
-  move_point_states(
-      points, laws, [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && updates_here(mp, laws); },
-      [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && dealt[mp.id] == ranks_->rank(); });
+  const auto leaves = [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && updates_here(mp, laws); };
+  move_point_states(points, laws, leaves, [&](const MaterialPoint& mp) {
+    return dealt[mp.id] != owner(mp.id) && dealt[mp.id] == ranks_->rank();
+  });
+  for (const MaterialPoint& mp : points)
+    if (spread_point(mp, laws) && leaves(mp)) laws[mp.law]->point_sharing()->release(mp.slot);
   owner_ = std::move(dealt);
   moved_points_ += moved;
   return moved;

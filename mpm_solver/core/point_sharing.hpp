@@ -19,6 +19,9 @@ class PointSharing {
   // Everything the slot carries, so that the receiving rank continues it bit for bit.
   virtual void write_point_state(std::size_t slot, common::ByteWriter& out) const = 0;
   virtual void read_point_state(std::size_t slot, common::ByteReader& in) = 0;
+  // The point now lives on another rank (its state was sent there): close what this rank held open
+  // for it (e.g. a path it was writing to the library).
+  virtual void release(std::size_t /*slot*/) {}
 };
 
 }  // namespace grainbank::mpm

@@ -17,15 +17,12 @@ std::string run_shard_name() {
 }
 }  // namespace
 
-Enrichment::Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget)
-    : link_(link),
-      snapshot_interval_(snapshot_interval),
-      snapshot_budget_(snapshot_budget),
-      shard_name_(run_shard_name()),
-      lock_(link.locked([](db::Library& library) { return library.directory(); })) {
+Enrichment::Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget, bool lead)
+    : link_(link), snapshot_interval_(snapshot_interval), snapshot_budget_(snapshot_budget), shard_name_(run_shard_name()) {
+  if (lead) lock_.emplace(link.locked([](db::Library& library) { return library.directory(); }));
   writer_ = link_.locked([&](db::Library& library) {
     // Holding the lock, this run knows every `running` path was left by a writer that died.
-    db::reset_running_paths(library.catalogue());
+    if (lead) db::reset_running_paths(library.catalogue());
     return std::make_unique<db::ShardWriter>(library, shard_name_);
   });
 }

@@ -20,6 +20,7 @@
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,7 +45,9 @@ class Enrichment {
   static constexpr std::size_t kCommitBatch = 32;
 
   static constexpr long kUnlimited = -1;
-  Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget = kUnlimited);
+  // `lead`: this writer holds LIB/sampler.lock and declares stale `running` paths done; in a run
+  // spread over MPI ranks rank 0 leads and each other rank writes its own shard beside it.
+  Enrichment(LibraryLink& link, int snapshot_interval, long snapshot_budget = kUnlimited, bool lead = true);
   long snapshots_written() const { return snapshots_written_; }
   const std::string& shard_name() const { return shard_name_; }
 
@@ -63,7 +66,7 @@ class Enrichment {
   long snapshot_budget_;
   long snapshots_written_ = 0;  // under the link's lock
   std::string shard_name_;
-  db::SamplerLock lock_;
+  std::optional<db::SamplerLock> lock_;
   std::unique_ptr<db::ShardWriter> writer_;
   std::int64_t started_ = 0;
 };

@@ -5,6 +5,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "dem_sampler/cell/cell_state_bytes.hpp"
+
 namespace grainbank::mpm {
 
 LibraryLaw::LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings settings)
@@ -19,8 +21,12 @@ LibraryLaw::LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings set
   if (settings_.fallback == Fallback::none && link_->index().size() == 0)
     throw std::invalid_argument("the cache law needs a library with records (it has none; use hybrid or sample paths)");
   // Only a law that runs live cells has responses to give back.
-  if (settings_.enrich && settings_.fallback != Fallback::none)
-    enrichment_ = std::make_unique<Enrichment>(*link_, settings_.snapshot_interval, settings_.snapshot_budget);
+  if (settings_.enrich && settings_.fallback != Fallback::none) {
+    long budget = settings_.snapshot_budget;
+    if (budget != Enrichment::kUnlimited)
+      budget = budget / settings_.ranks + (settings_.rank < budget % settings_.ranks ? 1 : 0);
+    enrichment_ = std::make_unique<Enrichment>(*link_, settings_.snapshot_interval, budget, settings_.rank == 0);
+  }
 }
 
 LibraryLaw::~LibraryLaw() {
@@ -182,6 +188,54 @@ void LibraryLaw::restore_state(LawStateReader& in) {
     p.modulus = model_.modulus(p.cell->measures());
     p.source = StressSource::live;
   }
+}
+
+void LibraryLaw::write_summary(std::size_t slot, common::ByteWriter& out) const {
+  const Point& p = points_[slot];
+  out.put(p.damage), out.put(p.modulus), out.put(p.error), out.put(p.source), out.put(p.counters);
+}
+
+void LibraryLaw::read_summary(std::size_t slot, common::ByteReader& in) {
+  Point& p = points_[slot];
+  p.damage = in.get<double>(), p.modulus = in.get<double>(), p.error = in.get<double>();
+  p.source = in.get<StressSource>();
+  p.counters = in.get<CouplingCounters>();
+}
+
+void LibraryLaw::write_point_state(std::size_t slot, common::ByteWriter& out) const {
+  const Point& p = points_[slot];
+  write_summary(slot, out);
+  out.put(p.steps_inside);
+  out.put<std::uint64_t>(p.history.size());
+  for (const KinematicIncrement& increment : p.history) {
+    out.put_matrix(increment.F), out.put_matrix(increment.L);
+    out.put(increment.dt);
+  }
+  out.put(p.cell != nullptr);
+  if (p.cell) dem::write_cell_state(p.cell->state(), out);
+}
+
+void LibraryLaw::read_point_state(std::size_t slot, common::ByteReader& in) {
+  read_summary(slot, in);
+  Point& p = points_[slot];
+  p.steps_inside = in.get<int>();
+  p.history = in.get_each([&] {
+    KinematicIncrement increment;
+    increment.F = in.get_matrix<Mat2>(), increment.L = in.get_matrix<Mat2>();
+    increment.dt = in.get<double>();
+    return increment;
+  });
+  if (p.cell) --live_points_;
+  p.cell.reset();
+  if (in.get<bool>()) {
+    p.cell = std::make_unique<dem::DemCell>(model_.cell_from(dem::read_cell_state(in)));
+    ++live_points_;
+  }
+}
+
+void LibraryLaw::release(std::size_t slot) {
+  Point& p = points_[slot];
+  if (p.path.open()) enrichment_->finish(p.path);
 }
 
 double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {

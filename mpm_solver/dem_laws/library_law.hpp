@@ -23,6 +23,7 @@
 
 #include "mpm_solver/core/constitutive_law.hpp"
 #include "mpm_solver/core/dem_backed_law.hpp"
+#include "mpm_solver/core/point_sharing.hpp"
 #include "mpm_solver/dem_laws/enrichment.hpp"
 #include "mpm_solver/dem_laws/library_link.hpp"
 #include "mpm_solver/dem_laws/live_cell_model.hpp"
@@ -41,9 +42,12 @@ struct LibraryLawSettings {
   int snapshot_interval = 25;      // of enriched paths: a snapshot every this many records
   long snapshot_budget = Enrichment::kUnlimited;  // snapshots the run may add in all
   LiveDemSettings live;            // of the live cells (and of the wave speed of cached points)
+  // A run spread over MPI ranks: this rank and their number. Rank 0 leads the enrichment (the
+  // library's lock); each rank writes its own shard with its share of the snapshot budget.
+  int rank = 0, ranks = 1;
 };
 
-class LibraryLaw : public ConstitutiveLaw, public DemBackedLaw {
+class LibraryLaw : public ConstitutiveLaw, public DemBackedLaw, public PointSharing {
  public:
   // Throws std::invalid_argument on bad settings or when the cache law gets an empty library.
   LibraryLaw(std::unique_ptr<LibraryLink> link, LibraryLawSettings settings);
@@ -59,8 +63,18 @@ class LibraryLaw : public ConstitutiveLaw, public DemBackedLaw {
   double damage(std::size_t slot) const override { return points_[slot].damage; }
   bool expensive() const override { return live_points_ > 0; }
   // The cache law's answers depend on the point and the (read-only) library alone: every rank of a
-  // spread run can give them. Hybrid points turn live and write enrichment: one rank only.
+  // spread run gives them alike.
   bool replicable() const override { return settings_.fallback == Fallback::none; }
+  // Hybrid points are spread over ranks like live ones: each rank looks up, turns live and drives
+  // its own points; the others keep each point's damage, modulus, source and counters (the
+  // summary), and receive its whole state (live cell, replay history) when they must hold it.
+  PointSharing* point_sharing() override { return settings_.fallback == Fallback::none ? nullptr : this; }
+  void write_summary(std::size_t slot, common::ByteWriter& out) const override;
+  void read_summary(std::size_t slot, common::ByteReader& in) override;
+  void write_point_state(std::size_t slot, common::ByteWriter& out) const override;
+  void read_point_state(std::size_t slot, common::ByteReader& in) override;
+  // A live point that moved to another rank ends its enriched path here; its new rank starts one.
+  void release(std::size_t slot) override;
   // Per point its damage, whether it is live, its steps inside the tolerance, its replay history and
   // its live cell. A restored live point starts a new enriched path.
   void save_state(LawStateWriter& out) const override;

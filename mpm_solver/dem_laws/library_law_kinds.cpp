@@ -60,6 +60,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.live = read_live_settings(material);
   const std::optional<db::KeyScales> scales = read_lookup(material, s.lookup);
   if (hybrid) read_fallback(material, s);
+  s.rank = scene.rank, s.ranks = scene.ranks;
   const JsonNode lib = material.at("library", "a library directory (string)");
   const std::int64_t id = material.at("template", "a template id (integer)").integer(1);
   std::optional<dem::Material> expected;
@@ -82,7 +83,7 @@ std::unique_ptr<ConstitutiveLaw> read_hybrid(const JsonNode& material, const Law
 }
 
 const LawRegistration cache{{"cache", kCacheKeys, true, &read_cache, true}};
-const LawRegistration hybrid{{"hybrid", kHybridKeys, true, &read_hybrid}};
+const LawRegistration hybrid{{"hybrid", kHybridKeys, true, &read_hybrid, true}};
 
 }  // namespace
 

@@ -137,7 +137,7 @@ Gravity read_gravity(const JsonNode& node) {
 
 }  // namespace
 
-Scene load_scene(const std::filesystem::path& file, int ranks) {
+Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
   const nlohmann::json doc = common::load_json_file(file);
   const JsonNode root(doc, file.filename().string());
   root.require_object();
@@ -184,7 +184,7 @@ Scene load_scene(const std::filesystem::path& file, int ranks) {
   scene.solver = std::make_unique<Solver>(common::at_node(grid, [&] { return read_grid(grid); }), settings);
 
   bool gravity = false, boundary_friction = false;
-  LawContext law_context{folder, {}, ranks};
+  LawContext law_context{folder, {}, rank, ranks};
   DemEffects& dem_effects = law_context.effects;
   if (const auto effects = root.find("effects")) {
     effects->allow_only({"gravity", "boundary_friction", "cohesion", "kinetic_stress", "rolling_resistance"});

@@ -37,7 +37,8 @@ struct Scene {
 };
 
 // Reads and builds the scene (live cells are prepared or loaded here). Paths inside the scene are
-// relative to its folder. A scene for a run on `ranks` MPI ranks refuses laws that cannot run there.
-Scene load_scene(const std::filesystem::path& file, int ranks = 1);
+// relative to its folder. A scene for rank `rank` of a run on `ranks` MPI ranks refuses laws that
+// cannot run there.
+Scene load_scene(const std::filesystem::path& file, int rank = 0, int ranks = 1);
 
 }  // namespace grainbank::mpm::io

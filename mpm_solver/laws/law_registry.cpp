@@ -57,8 +57,8 @@ std::unique_ptr<ConstitutiveLaw> read_law(const common::JsonNode& material, cons
   material.allow_only(kind->keys);
   if (scene.ranks > 1 && !kind->runs_on_ranks)
     law.fail("law \"" + std::string(kind->name) + "\" cannot run on " + std::to_string(scene.ranks) +
-             " MPI ranks (its points turn live, learn or write the library as the run goes): run this scene "
-             "without mpirun, on the threads of one process");
+             " MPI ranks (it is neither computed alike on every rank nor spread over them): run this scene without "
+             "mpirun, on the threads of one process");
   return kind->read(material, scene);
 }
 

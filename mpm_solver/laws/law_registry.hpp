@@ -30,7 +30,7 @@ struct DemEffects {
 struct LawContext {
   std::filesystem::path folder;  // the scene file's folder: relative file names are resolved here
   DemEffects effects;
-  int ranks = 1;  // the MPI ranks the run is spread over (core/ranks.hpp)
+  int rank = 0, ranks = 1;  // this MPI rank and the number of ranks the run is spread over (core/ranks.hpp)
 };
 
 using LawReader = std::unique_ptr<ConstitutiveLaw> (*)(const common::JsonNode& material, const LawContext& scene);

@@ -3,7 +3,7 @@
 // equals the one-rank run in every point field and every cell, bit for bit; a restart written on
 // two ranks resumes on one and the reverse; a cell that fails on rank 1 stops both ranks with one
 // message naming the point; SIGINT to one rank stops both after the same step with a restart that
-// resumes bit for bit.
+// resumes bit for bit. Hybrid points spread the same way, each rank enriching its own shard.
 #include <dirent.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
@@ -13,6 +13,7 @@
 #include <map>
 #include <optional>
 
+#include "database/store/library.hpp"
 #include "dem_sampler/cell/cell_state_bytes.hpp"
 #include "mpm_solver/core/dem_backed_law.hpp"
 #include "mpm_solver/io/scene_input.hpp"
@@ -84,8 +85,9 @@ std::map<std::uint32_t, std::vector<char>> cells_of_restart(const fs::path& scen
 }
 
 // The run in `run` ended in exactly the state of the run in `reference`: time, step, every point
-// field and every cell.
-void expect_same_end(const fs::path& scene, const fs::path& run, const fs::path& reference) {
+// field and every one of its `live_cells` cells.
+void expect_same_end(const fs::path& scene, const fs::path& run, const fs::path& reference,
+                     std::size_t live_cells = 24) {
   const RestartContents end = read_restart_file(run / "restart.h5");
   const RestartContents expected = read_restart_file(reference / "restart.h5");
   EXPECT_EQ(end.time, expected.time);
@@ -96,8 +98,8 @@ void expect_same_end(const fs::path& scene, const fs::path& run, const fs::path&
   EXPECT_EQ(differing, 0u) << "of " << end.points.size() << " point values differ";
   const auto cells = cells_of_restart(scene, run / "restart.h5");
   const auto expected_cells = cells_of_restart(scene, reference / "restart.h5");
-  ASSERT_EQ(cells.size(), 24u);
-  ASSERT_EQ(expected_cells.size(), 24u);
+  ASSERT_EQ(cells.size(), live_cells);
+  ASSERT_EQ(expected_cells.size(), live_cells);
   for (const auto& [id, bytes] : expected_cells) EXPECT_TRUE(cells.at(id) == bytes) << "the cell of point " << id;
 }
 
@@ -191,19 +193,64 @@ TEST_F(MpmMpi, ACellFailingOnRankOneStopsBothRanksWithOneMessageNamingThePoint) 
   EXPECT_EQ(messages, 1u) << r.err;
 }
 
-// A hybrid point may turn live, learn and write the library mid-run: such a law is not spread yet, and
-// says so before anything runs.
-TEST_F(MpmMpi, AHybridSceneOnTwoRanksStopsBeforeItStartsNamingTheLaw) {
+// A library of two short paths of the test cell (a slow squeeze and a shear): the column's points hit
+// it while they settle and miss, turning live, once the gate opens.
+fs::path hybrid_library(const TempDir& here, const std::string& name) {
+  const fs::path cell = here.write("cell.json", kCell), library = here.path() / name;
+  const fs::path paths = here.write("paths.json", R"({"record_interval": 2e-3, "snapshot_interval": 5,
+    "paths": [{"segments": [{"L": [[0, 0], [0, -0.5]], "duration": 0.04}]},
+              {"segments": [{"L": [[0, 2], [0, 0]], "duration": 0.04}]}]})");
+  for (const std::vector<std::string>& command :
+       {std::vector<std::string>{DEM_SAMPLER_BINARY, "prepare", cell.string(), "--library", library.string()},
+        std::vector<std::string>{DEM_SAMPLER_BINARY, "sample", paths.string(), "--library", library.string(),
+                                 "--threads", "1"}}) {
+    const Outcome r = sampler::test::run(command, here.path());
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+  }
+  return library;
+}
+
+std::size_t run_shards(const fs::path& library) {
+  std::size_t shards = 0;
+  for (const db::ShardRow& s : db::Library::open(library).catalogue().shards()) shards += s.name.starts_with("run-");
+  return shards;
+}
+
+// Hybrid points are spread like live ones: each rank looks up, turns live and enriches the library
+// in its own shard, and the run ends where one rank's does (each run on its own copy of the library,
+// since enrichment changes what a later run finds).
+TEST_F(MpmMpi, AHybridRunOnTwoRanksEndsInTheOneRankStateWithAShardPerRank) {
   const TempDir here("gb-mpm-mpi-hybrid");
-  const fs::path cell = here.write("cell.json", kCell), library = here.path() / "lib";
-  const Outcome prepared = sampler::test::run({DEM_SAMPLER_BINARY, "prepare", cell.string(), "--library",
-                                               library.string()}, here.path());
-  ASSERT_EQ(prepared.exit_code, 0) << prepared.err;
-  const fs::path out = here.path() / "out";
+  const fs::path one_library = hybrid_library(here, "one_lib"), two_library = here.path() / "two_lib";
+  fs::copy(one_library, two_library, fs::copy_options::recursive);
+  const auto hybrid = [&](const fs::path& library) {
+    return std::vector<std::string>{"--law", "hybrid", "--library", library.string()};
+  };
+  const Outcome one = sampler::test::run(mpm_solver(1, scene_, here.path() / "one", hybrid(one_library)), here.path());
+  ASSERT_EQ(one.exit_code, 0) << one.err;
+  const Outcome two = sampler::test::run(mpm_solver(2, scene_, here.path() / "two", hybrid(two_library)), here.path());
+  ASSERT_EQ(two.exit_code, 0) << two.err;
+
+  const nlohmann::json summary = nlohmann::json::parse(std::ifstream(here.path() / "two" / "summary.json"));
+  const nlohmann::json& coupling = summary["coupling"]["laws"][0];
+  EXPECT_GT(coupling["hits"].get<long>(), 0) << "the library answered nothing: a live run in disguise";
+  EXPECT_GT(coupling["went_live"].get<long>(), 0) << "no point turned live: nothing was spread";
+  EXPECT_EQ(run_shards(one_library), 1u);
+  EXPECT_EQ(run_shards(two_library), 2u);
+  // Both restarts read into the one-rank run's scene (which opens a library: counted above).
+  expect_same_end(here.path() / "one" / "scene" / "scene.json", here.path() / "two", here.path() / "one",
+                  coupling["went_live"].get<std::size_t>() - coupling["returned_to_cache"].get<std::size_t>());
+}
+
+// The surrogate's running index learns from its live cells as the run goes: it is not spread yet,
+// and says so before anything runs.
+TEST_F(MpmMpi, ASurrogateSceneOnTwoRanksStopsBeforeItStartsNamingTheLaw) {
+  const TempDir here("gb-mpm-mpi-surrogate");
+  const fs::path library = hybrid_library(here, "lib"), out = here.path() / "out";
   const Outcome r = sampler::test::run(
-      mpm_solver(2, scene_, out, {"--law", "hybrid", "--library", library.string()}), here.path());
+      mpm_solver(2, scene_, out, {"--law", "surrogate", "--library", library.string()}), here.path());
   EXPECT_EQ(r.exit_code, 1);
-  EXPECT_NE(r.err.find("/materials/0/law: law \"hybrid\" cannot run on 2 MPI ranks"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("/materials/0/law: law \"surrogate\" cannot run on 2 MPI ranks"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("without mpirun"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(out / "points_000000.vtu")) << "the run started";
 }
