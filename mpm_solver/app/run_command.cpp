@@ -177,7 +177,7 @@ nlohmann::json run_scene(const RunOptions& options) {
 
   const std::filesystem::path restart = options.out / "restart.h5";
   const auto write_restart = [&] {
-    solver.share_point_states();
+    solver.gather_point_states();
     on_root([&] { io::write_restart(restart, solver, run_record); });
   };
   double output_time = 0;
@@ -185,7 +185,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   Clock::time_point last_checkpoint = Clock::now();
   const auto snapshot = [&] {
     const Clock::time_point t0 = Clock::now();
-    if (!scene.tracked_points.empty()) solver.share_point_states(scene.tracked_points);
+    if (!scene.tracked_points.empty()) solver.gather_point_states(scene.tracked_points);
     on_root([&] {
       char name[64];
       std::snprintf(name, sizeof name, "points_%06ld.vtu", snapshots);

@@ -71,7 +71,7 @@ long PointDistribution::share_updates(std::vector<MaterialPoint>& points, const 
 
 template <class Send, class Receive>
 void PointDistribution::move_point_states(const std::vector<MaterialPoint>& points, const Laws& laws, Send&& send,
-                                          Receive&& receive) const {
+                                          Receive&& receive, bool to_root_only) const {
   common::ByteWriter mine;
   for (const MaterialPoint& mp : points) {
     if (!spread_point(mp, laws) || !send(mp)) continue;
@@ -80,9 +80,10 @@ void PointDistribution::move_point_states(const std::vector<MaterialPoint>& poin
     mine.put(mp.id);
     mine.put_vector(state.bytes());
   }
-  const std::vector<std::vector<char>> all = ranks_->all_gather(mine.bytes());
+  const std::vector<std::vector<char>> all =
+      to_root_only ? ranks_->gather_to_root(mine.bytes()) : ranks_->all_gather(mine.bytes());
   const std::vector<std::uint32_t> index = index_of_ids(points);
-  for (int r = 0; r < ranks_->size(); ++r) {
+  for (int r = 0; r < static_cast<int>(all.size()); ++r) {
     if (r == ranks_->rank()) continue;
     common::ByteReader in(all[r]);
     while (!in.at_end()) {
@@ -93,14 +94,14 @@ void PointDistribution::move_point_states(const std::vector<MaterialPoint>& poin
   }
 }
 
-void PointDistribution::share_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
-                                           const std::vector<std::uint32_t>& ids) const {
+void PointDistribution::gather_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
+                                            const std::vector<std::uint32_t>& ids) const {
   if (!spread()) return;
   const auto wanted = [&](const MaterialPoint& mp) {
     return ids.empty() || std::find(ids.begin(), ids.end(), mp.id) != ids.end();
   };
   move_point_states(
-      points, laws, [&](const MaterialPoint& mp) { return wanted(mp) && updates_here(mp, laws); }, wanted);
+      points, laws, [&](const MaterialPoint& mp) { return wanted(mp) && updates_here(mp, laws); }, wanted, true);
 }
 
 std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& points, const Laws& laws,
@@ -136,9 +137,9 @@ std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& point
   std::size_t moved = 0;
   for (std::uint32_t id : order) moved += dealt[id] != owner(id);
   const auto leaves = [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && updates_here(mp, laws); };
-  move_point_states(points, laws, leaves, [&](const MaterialPoint& mp) {
-    return dealt[mp.id] != owner(mp.id) && dealt[mp.id] == ranks_->rank();
-  });
+  move_point_states(
+      points, laws, leaves,
+      [&](const MaterialPoint& mp) { return dealt[mp.id] != owner(mp.id) && dealt[mp.id] == ranks_->rank(); }, false);
   for (const MaterialPoint& mp : points)
     if (spread_point(mp, laws) && leaves(mp)) laws[mp.law]->point_sharing()->release(mp.slot);
   owner_ = std::move(dealt);

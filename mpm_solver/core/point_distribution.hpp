@@ -46,9 +46,9 @@ class PointDistribution {
   // tells whether points[p] skipped its constitutive call; returns the number of such skips among
   // the points other ranks updated.
   long share_updates(std::vector<MaterialPoint>& points, const Laws& laws, const std::vector<char>& skipped) const;
-  // Each spread point's full law state, from its owner to every rank (`ids` empty: every point).
-  void share_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
-                          const std::vector<std::uint32_t>& ids) const;
+  // Each spread point's full law state, from its owner to rank 0 (`ids` empty: every point).
+  void gather_point_states(const std::vector<MaterialPoint>& points, const Laws& laws,
+                           const std::vector<std::uint32_t>& ids) const;
   // The point with the smallest value among those each rank offers (value, point id), on every rank;
   // ties go to the lower id. {inf, UINT32_MAX} when no rank offers one.
   std::pair<double, std::uint32_t> min_over_ranks(std::pair<double, std::uint32_t> mine) const;
@@ -59,11 +59,11 @@ class PointDistribution {
   int owner(std::uint32_t id) const {
     return owner_.empty() ? int(id % std::uint32_t(ranks_->size())) : owner_[id];
   }
-  // Sends the full state of every spread point `send` accepts from this rank to all; reads those of
-  // other ranks' points that `receive` accepts.
+  // Sends the full state of every spread point `send` accepts from this rank to all (or to rank 0
+  // only); reads those of other ranks' points that `receive` accepts.
   template <class Send, class Receive>
   void move_point_states(const std::vector<MaterialPoint>& points, const Laws& laws, Send&& send,
-                         Receive&& receive) const;
+                         Receive&& receive, bool to_root_only) const;
 
   std::shared_ptr<const Ranks> ranks_;
   std::vector<int> owner_;  // rank of each point id (empty: dealt by id, id mod ranks)

@@ -2,7 +2,8 @@
 // spread those points over ranks (ranks.hpp): each point is updated on one rank, its owner, and the
 // other ranks answer the solver's questions about it (p_wave_modulus, damage, the DemBackedLaw
 // counters) from the summary the owner sends after every update. The full state of a point moves
-// only when one rank must hold all of them: to write a restart file or a tracked point's cell.
+// only to rank 0 when it writes a restart file or a tracked point's cell, and to a new owner when
+// the points are re-dealt by cost.
 #pragma once
 #include <cstddef>
 

@@ -16,6 +16,8 @@ class Ranks {
   virtual int size() const = 0;
   // Every rank passes its own bytes and receives those of all ranks, in rank order.
   virtual std::vector<std::vector<char>> all_gather(const std::vector<char>& mine) const = 0;
+  // The same, received by rank 0 only (the others get nothing).
+  virtual std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) const = 0;
   // The smallest of the ranks' values, and whether any rank passed true, on every rank.
   virtual double min(double value) const = 0;
   virtual bool any(bool value) const = 0;
@@ -26,6 +28,7 @@ class OneRank final : public Ranks {
   int rank() const override { return 0; }
   int size() const override { return 1; }
   std::vector<std::vector<char>> all_gather(const std::vector<char>& mine) const override { return {mine}; }
+  std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) const override { return {mine}; }
   double min(double value) const override { return value; }
   bool any(bool value) const override { return value; }
 };

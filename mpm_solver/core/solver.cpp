@@ -101,8 +101,8 @@ void Solver::add_obstacle(Obstacle obstacle) { obstacles_.push_back(std::move(ob
 
 void Solver::set_ranks(std::shared_ptr<const Ranks> ranks) { distribution_.set_ranks(std::move(ranks), laws_); }
 
-void Solver::share_point_states(const std::vector<std::uint32_t>& ids) {
-  distribution_.share_point_states(points_, laws_, ids);
+void Solver::gather_point_states(const std::vector<std::uint32_t>& ids) {
+  distribution_.gather_point_states(points_, laws_, ids);
 }
 
 TimeStepLimits Solver::time_step_limits() const {

@@ -56,12 +56,12 @@ class Solver {
 
   // Spreads the run over `ranks` (MPI): call after the laws are added, before the first step, on every
   // rank alike. Throws std::invalid_argument when a law cannot run on several ranks. From then on
-  // step(), time_step_limits(), law_limiting_point() and share_point_states() are collective calls.
+  // step(), time_step_limits(), law_limiting_point() and gather_point_states() are collective calls.
   void set_ranks(std::shared_ptr<const Ranks> ranks);
   const Ranks& ranks() const { return distribution_.ranks(); }
-  // Brings the law state of the points in `ids` (all when empty) to every rank; before anything
-  // reads a spread point's full state (a restart file, a tracked point's cell).
-  void share_point_states(const std::vector<std::uint32_t>& ids = {});
+  // Brings the law state of the points in `ids` (all when empty) to rank 0, before it reads a
+  // spread point's full state (a restart file, a tracked point's cell).
+  void gather_point_states(const std::vector<std::uint32_t>& ids = {});
 
   // Criteria for the next step (their minimum, capped by max_time_step, is the step to take).
   TimeStepLimits time_step_limits() const;

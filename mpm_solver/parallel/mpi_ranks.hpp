@@ -11,10 +11,12 @@ class MpiRanks final : public Ranks {
   int rank() const override { return rank_; }
   int size() const override { return size_; }
   std::vector<std::vector<char>> all_gather(const std::vector<char>& mine) const override;
+  std::vector<std::vector<char>> gather_to_root(const std::vector<char>& mine) const override;
   double min(double value) const override;
   bool any(bool value) const override;
 
  private:
+  std::vector<std::vector<char>> gather(const std::vector<char>& mine, bool to_all) const;
   int rank_ = 0, size_ = 1;
 };
 
