@@ -16,7 +16,8 @@ n=0
 while [ -e "$out/run_$((n + 1))/restart.h5" ]; do n=$((n + 1)); done
 set -- "$root/workflows/column_collapse/column.json" --out "$out/run_$((n + 1))" --threads "${THREADS:-1}" "$@"
 [ "$n" -gt 0 ] && set -- "$@" --restart "$out/run_$n/restart.h5"
-mpi=(mpirun -n "${RANKS:-2}")
+# Ctrl-C reaches the ranks as SIGTERM; give them two minutes to write the restart before mpirun kills them.
+mpi=(mpirun -n "${RANKS:-2}" --mca odls_base_sigkill_timeout 120)
 [ -n "${HOSTFILE:-}" ] && mpi+=(--hostfile "$HOSTFILE")
 [ "$(id -u)" = 0 ] && mpi+=(--allow-run-as-root)
 exec "${mpi[@]}" "$build/mpm_solver/mpm_solver" "$@"
