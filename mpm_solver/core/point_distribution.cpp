@@ -120,17 +120,27 @@ std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& point
     if (spread_point(mp, laws)) order.push_back(mp.id);
   std::sort(order.begin(), order.end(),
             [&](std::uint32_t a, std::uint32_t b) { return cost[a] > cost[b] || (cost[a] == cost[b] && a < b); });
+  // The best deal greedy placement finds: the costliest first, onto the least-loaded rank.
+  const auto ranks = static_cast<std::size_t>(ranks_->size());
+  const auto least_loaded = [](const std::vector<double>& load) {
+    return static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+  };
+  std::vector<double> greedy(ranks, 0.0), now(ranks, 0.0);
+  for (std::uint32_t id : order) {
+    greedy[least_loaded(greedy)] += cost[id];
+    now[static_cast<std::size_t>(owner(id))] += cost[id];
+  }
+  // Moving costs a state transfer (a whole cell), and a hybrid point's enriched path ends at each
+  // move: the points stay where they are unless the busiest rank is over kLoadTolerance above the
+  // greedy deal's, and then each stays while its rank remains within that margin.
+  const double cap = *std::max_element(greedy.begin(), greedy.end()) * (1 + kLoadTolerance);
+  if (*std::max_element(now.begin(), now.end()) <= cap) return 0;
   std::vector<int> dealt(points.size(), 0);
   for (std::uint32_t id = 0; id < dealt.size(); ++id) dealt[id] = owner(id);
-  // A point stays where it is while its rank stays within kLoadTolerance of an even share: moving
-  // costs a state transfer (a whole cell), and a hybrid point's enriched path ends at each move.
-  double total = 0;
-  for (std::uint32_t id : order) total += cost[id];
-  const double share = total / ranks_->size() * (1 + kLoadTolerance);
-  std::vector<double> load(static_cast<std::size_t>(ranks_->size()), 0.0);
+  std::vector<double> load(ranks, 0.0);
   for (std::uint32_t id : order) {
     auto rank = static_cast<std::size_t>(owner(id));
-    if (load[rank] + cost[id] > share) rank = static_cast<std::size_t>(std::min_element(load.begin(), load.end()) - load.begin());
+    if (load[rank] + cost[id] > cap) rank = least_loaded(load);
     dealt[id] = static_cast<int>(rank);
     load[rank] += cost[id];
   }

@@ -33,10 +33,12 @@ class PointDistribution {
   }
 
   // Deals the spread points out anew by what they cost since the last call (`seconds` by point id:
-  // this rank's own points, 0 for the others): the costliest first, each kept on its rank while that
-  // rank's load stays within kLoadTolerance of an even share, else put onto the rank with the least
-  // load so far (ties: the lower id, the lower rank), so every rank computes the same deal; then
-  // moves the state of every point that changes rank. Returns the number of points moved (collective).
+  // this rank's own points, 0 for the others), when the busiest rank carries over kLoadTolerance more
+  // than in the greedy deal (costliest first onto the least-loaded rank): the costliest first, each
+  // kept on its rank while that rank stays within the greedy deal's busiest load plus the tolerance,
+  // else put onto the least-loaded rank (ties: the lower id, the lower rank), so every rank computes
+  // the same deal; then moves the state of every point that changes rank. Returns the number of
+  // points moved (collective).
   static constexpr double kLoadTolerance = 0.05;
   std::size_t rebalance(const std::vector<MaterialPoint>& points, const Laws& laws, const std::vector<double>& seconds);
   // Points moved by rebalance so far.
