@@ -14,8 +14,9 @@ ranks built from what those runs measured:
   at bandwidth beta. B is measured (2 x 1 run); alpha and beta are assumptions, stated in the output
   (a cluster's interconnect, not this machine's shared memory).
 
-mpm_solver deals the points out by id (point id mod P) first, then every 50 steps by their measured
-cost (the costliest first onto the least-loaded rank): the model gives both placements. The predicted wall time of the seed's column to t = 2.5 s is steps x T(P), with the steps
+mpm_solver deals the points out by id (point id mod P) first, then every 50 steps moves cells when
+the busiest rank is over 5 % above a greedy deal by measured cost (the costliest first onto the
+least-loaded rank): the model gives the deal by id and the greedy deal. The predicted wall time of the seed's column to t = 2.5 s is steps x T(P), with the steps
 of the probe's time step: the probe sees the settling column only, before the flow shortens the step
 (seed Eq. 4) and re-tiles cells, so it is a lower bound.
 
