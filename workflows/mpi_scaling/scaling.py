@@ -22,8 +22,9 @@ of the probe's time step: the probe sees the settling column only, before the fl
 
   /usr/bin/python3 scaling.py [OUT] [--build BUILD] [--end T] [--smoke]
 
-Writes OUT/scaling.json and OUT/scaling.md (OUT default: build/out/mpi_scaling). --smoke runs two
-steps (the CI test).
+Writes OUT/scaling.json and OUT/scaling.md, and the runs into OUT/runs/ (OUT default:
+build/out/mpi_scaling; workflows/mpi_scaling/results/ holds the committed JSON and table). --smoke runs
+three steps (the CI test).
 """
 import argparse
 import json
@@ -98,10 +99,11 @@ def main():
     args.out.mkdir(parents=True, exist_ok=True)
     runs = {}
     for name, ranks, threads in CONFIGS:
-        runs[name] = run(args.build.resolve(), args.out / name, ranks, threads, end) | {"ranks": ranks,
+        runs[name] = run(args.build.resolve(), args.out / "runs" / name, ranks, threads, end) | {"ranks": ranks,
                                                                                          "threads": threads}
         print(f"{name}: {runs[name]['stepping_wall_s']:.1f} s stepping wall, {runs[name]['steps']} steps", flush=True)
-    mpm_only = run(args.build.resolve(), args.out / "mpm_only", 1, 1, end, ["--set", f"/materials/0={ELASTIC}"])
+    mpm_only = run(args.build.resolve(), args.out / "runs" / "mpm_only", 1, 1, end,
+                   ["--set", f"/materials/0={ELASTIC}"])
     one = runs["1x1"]
     for r in runs.values():
         r["speedup"] = one["stepping_wall_s"] / r["stepping_wall_s"]
