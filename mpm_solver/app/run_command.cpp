@@ -6,7 +6,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -93,19 +92,6 @@ std::string time_step_collapse(const Solver& solver, double stable, double floor
   return msg.str();
 }
 
-// Sums each rank's doubles element by element, on every rank.
-std::vector<double> sum_over_ranks(const std::vector<double>& mine, const Ranks& ranks) {
-  const std::vector<char> bytes(reinterpret_cast<const char*>(mine.data()),
-                                reinterpret_cast<const char*>(mine.data() + mine.size()));
-  std::vector<double> total(mine.size(), 0.0);
-  for (const std::vector<char>& other : ranks.all_gather(bytes)) {
-    std::vector<double> values(other.size() / sizeof(double));
-    std::memcpy(values.data(), other.data(), values.size() * sizeof(double));
-    for (std::size_t k = 0; k < std::min(values.size(), total.size()); ++k) total[k] += values[k];
-  }
-  return total;
-}
-
 // What each rank's costly points took, and what each of them cost (collective): the
 // inputs of the MPI scaling model (workflows/mpi_scaling). Per point: seconds of its constitutive
 // calls per step, for the points of laws spread over ranks (live cells).
@@ -114,9 +100,9 @@ nlohmann::json load_balance(const Solver& solver, const Ranks& ranks) {
   std::vector<double> by_rank(static_cast<std::size_t>(ranks.size()), 0.0);
   for (double seconds : solver.point_update_seconds()) by_rank[static_cast<std::size_t>(ranks.rank())] += seconds;
   const double steps = std::max(1.0, static_cast<double>(solver.steps()));
-  std::vector<double> per_point = sum_over_ranks(solver.point_update_seconds(), ranks);
+  std::vector<double> per_point = sum_over_ranks(ranks, solver.point_update_seconds());
   for (double& seconds : per_point) seconds /= steps;
-  return {{"update_seconds_by_rank", sum_over_ranks(by_rank, ranks)},
+  return {{"update_seconds_by_rank", sum_over_ranks(ranks, by_rank)},
           {"shared_bytes_per_step", solver.shared_update_bytes() / steps},
           {"rebalanced_points", solver.rebalanced_points()},
           {"point_update_seconds_per_step", per_point}};

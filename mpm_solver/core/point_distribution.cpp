@@ -107,14 +107,8 @@ void PointDistribution::gather_point_states(const std::vector<MaterialPoint>& po
 std::size_t PointDistribution::rebalance(const std::vector<MaterialPoint>& points, const Laws& laws,
                                          const std::vector<double>& seconds) {
   if (!spread()) return 0;
-  // Every rank's costs, summed: each point's cost is known on its owner only.
-  const std::vector<char> bytes(reinterpret_cast<const char*>(seconds.data()),
-                                reinterpret_cast<const char*>(seconds.data() + seconds.size()));
-  std::vector<double> cost(seconds.size(), 0.0);
-  for (const std::vector<char>& other : ranks_->all_gather(bytes)) {
-    common::ByteReader in(other);
-    for (double& c : cost) c += in.get<double>();
-  }
+  // Each point's cost is known on its owner only.
+  const std::vector<double> cost = sum_over_ranks(*ranks_, seconds);
   std::vector<std::uint32_t> order;
   for (const MaterialPoint& mp : points)
     if (spread_point(mp, laws)) order.push_back(mp.id);

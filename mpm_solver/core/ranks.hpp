@@ -33,6 +33,9 @@ class OneRank final : public Ranks {
   bool any(bool value) const override { return value; }
 };
 
+// Each rank's values summed element by element, on every rank (vectors of one length on all ranks).
+std::vector<double> sum_over_ranks(const Ranks& ranks, const std::vector<double>& mine);
+
 // Every rank passes the failure it met ("" for none); if any rank failed, every rank throws
 // std::runtime_error with the message of the lowest such rank (naming the rank when there are
 // several), so that all ranks stop at the same point with one message.
