@@ -96,8 +96,10 @@ def cases(smoke):
     out = [(f"live_a{a:g}", "live", a, 1, 125, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [("live_a1_seed2", "live", 1.0, 2, 125, H, PPC)]
     out += [(f"live_a1_n{n}", "live", 1.0, 1, n, H, PPC) for n in (64, 250)]
+    out += [("live_a1_h0.01", "live", 1.0, 1, 125, H / 2, PPC)]
     out += [(f"dp_a{a:g}", "drucker_prager", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [(f"dp_a{a:g}_h0.01_ppc2", "drucker_prager", a, None, None, 0.01, 2) for a in (0.5, 1.0, 2.0)]
+    out += [("dp_a1_h0.01", "drucker_prager", 1.0, None, None, H / 2, PPC)]
     out += [(f"dp_mu_i_a{a:g}", "drucker_prager_mu_i", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     return out
 
@@ -165,12 +167,14 @@ def plot(results, out, file):
     """Left: the runouts against Lube's law; right: each run's front over time, from the gate's removal,
     in units of L0 and of sqrt(H0/g)."""
     fig, ax = study.lube_axes(2.0)
-    styles = {("live", H): ("o", "live DEM cells"), ("drucker_prager", H): ("s", "Drucker–Prager twin"),
-              ("drucker_prager", 0.01): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc"),
-              ("drucker_prager_mu_i", H): ("D", "Drucker–Prager twin with the cell's μ(I)")}
-    for (law, h), (marker, label) in styles.items():
-        study.draw_runouts(ax, [r for r in results if r["law"] == law and r["h"] == h and not r.get("failed")], marker,
-                           label)
+    styles = {("live", H, PPC): ("o", "live DEM cells"), ("live", H / 2, PPC): ("P", "live DEM cells, L0/h = 20"),
+              ("drucker_prager", H, PPC): ("s", "Drucker–Prager twin"),
+              ("drucker_prager", H / 2, PPC): ("X", "Drucker–Prager twin, L0/h = 20"),
+              ("drucker_prager", 0.01, 2): ("^", "Drucker–Prager twin, L0/h = 20, 2 ppc"),
+              ("drucker_prager_mu_i", H, PPC): ("D", "Drucker–Prager twin with the cell's μ(I)")}
+    for (law, h, ppc), (marker, label) in styles.items():
+        study.draw_runouts(ax, [r for r in results if (r["law"], r["h"], r["points_per_cell"]) == (law, h, ppc)
+                                and not r.get("failed")], marker, label)
     ax.legend(fontsize=7)
     fig.set_size_inches(11, 4)
     ax.set_position([0.07, 0.13, 0.38, 0.8])
