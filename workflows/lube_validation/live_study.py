@@ -9,14 +9,16 @@ Drucker–Prager column made of the same material:
 - its elastic moduli those of the cell (cell_response/results/moduli.csv, dense, 1 kPa), its density
   the cell's, φ ρ_s.
 The gate is removed later than in study.py, once the cells, prepared isotropically at P0, have settled
-into the column's own weight. A second packing seed at a = 1 gives the noise floor, and cells of 64 and
-250 spheres the effect of the cell's size. Measured at rest (kinetic energy below REST of its peak), or,
+into the column's own weight. A second packing seed at a = 1 gives the noise floor, cells of 64 and
+250 spheres the effect of the cell's size, and the a = 1 column (live and twin) on the grid of half
+the cell size the effect of h. Measured at rest (kinetic energy below REST of its peak), or,
 for a run that never gets there, at its end (flagged, with its kinetic energy over the peak).
 
   /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke] [--remeasure]
 
-Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md
-and OUT/live.png. Cases run as separate calls into one OUT (side by side) are collected together.
+Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md,
+OUT/live.png and, once the live column at L0/h = 20 is in, OUT/live_grid.png (the a = 1 deposits of the
+live column and its twin on both grids). Cases run as separate calls into one OUT (side by side) are collected together.
 --remeasure measures the finished runs again and runs nothing. --smoke runs a two-point-wide column of
 27-sphere cells for a few milliseconds past the gate (the CI test).
 """
@@ -198,6 +200,29 @@ def plot(results, out, file):
     plt.close(fig)
 
 
+def plot_grid(results, file):
+    """The a = 1 deposits of the live column and of its Drucker–Prager twin on the two grids (one point per
+    cell), from the recorded profiles, with Lube's runout: what halving h does to each."""
+    runs = {(r["law"], r["h"]): r for r in results
+            if r["a"] == 1.0 and r["points_per_cell"] == PPC and r.get("seed") in (1, None)
+            and r.get("spheres") in (125, None) and not r.get("failed")}
+    if ("live", H / 2) not in runs:
+        return
+    fig, ax = plt.subplots(figsize=(6, 3))
+    for (law, h), colour in ((("live", H), "tab:blue"), (("live", H / 2), "tab:blue"),
+                             (("drucker_prager", H), "tab:red"), (("drucker_prager", H / 2), "tab:red")):
+        if (r := runs.get((law, h))):
+            ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", color=colour, ls="-" if h == H else "--",
+                    label=f"{'live DEM cells' if law == 'live' else 'Drucker–Prager twin'}, L0/h = {study.WIDTH / h:.0f}")
+    ax.axvline(column_scene.lube_runout(1.0), color="k", ls=":", lw=0.8, label="Lube et al. 2005")
+    ax.set_xlabel("(x − L0) / L0")
+    ax.set_ylabel("deposit height / H0")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(file, dpi=DPI)
+    plt.close(fig)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("lube_live"))
@@ -226,6 +251,7 @@ def main():
     twin = twin_material()
     (args.out / "live.md").write_text(table(results, twin))
     plot(results, args.out, args.out / "live.png")
+    plot_grid(results, args.out / "live_grid.png")
     print(table(results, twin), end="")
 
 
