@@ -65,6 +65,27 @@ class LiveLubeTest(WorkflowTest):
         self.assertIn("Drucker–Prager twin", (self.out / "live.md").read_text())
         self.assert_png(self.out / "live.png")
 
+    def test_grid_pair_is_measured_at_one_time(self):
+        """The grid comparison measures both runs at the earlier of their ends: the smoke run under both
+        names is measured twice at its last row and snapshot, and without the pair nothing is drawn."""
+        import shutil
+        import sys
+        sys.path.insert(0, str(WORKFLOWS / "lube_validation"))
+        import live_study
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "live_study.py", self.out, "--smoke", "--build", BUILD])
+        self.assertEqual(live_study.grid_pair(self.out), [])
+        pair_out = self.out / "pair"
+        for name in live_study.GRID_PAIR:
+            shutil.copytree(self.out / "live_smoke", pair_out / name)
+        coarse, fine = live_study.grid_pair(pair_out)
+        self.assertEqual((coarse["case"], fine["case"]), live_study.GRID_PAIR)
+        self.assertEqual(coarse["until"], fine["until"])
+        self.assertEqual(coarse["rest_time"], coarse["until"])  # measured at the last row
+        self.assertLessEqual(coarse["profile_time"], coarse["until"])
+        self.assertEqual(coarse["profile_time"], fine["profile_time"])
+        live_study.plot_grid([coarse, fine], self.out / "grid.png")
+        self.assert_png(self.out / "grid.png")
+
     def test_twin_friction_is_the_cells_critical_state(self):
         """The twin's cone: sin φ is the μ_s of the cell's μ(I) fit, which lies in the published
         range for spheres with μ_p = 0.5 within the fit's own scatter; its moduli are the cell's."""

@@ -18,12 +18,16 @@ from plotting.vtu import read_pvd, read_vtu  # noqa: E402
 EDGE_FRACTIONS = (0.05, 0.10, 0.15)  # deposit thickness / H0 at which the edges are reported
 
 
-def profile(run_folder, geometry, h):
-    """(x, height) of the deposit in the last snapshot, in units of L0 and H0: x from the column's
-    initial right edge, one bin per grid cell, height = highest point top in the bin above the base
-    (bins without points are left out)."""
-    _, last = read_pvd(Path(run_folder) / "points.pvd")[-1]
-    snapshot = read_vtu(last)
+def snapshot_at(run_folder, until=float("inf")):
+    """(time, file) of the last snapshot at or before `until` [s]."""
+    return [entry for entry in read_pvd(Path(run_folder) / "points.pvd") if entry[0] <= until][-1]
+
+
+def profile(run_folder, geometry, h, until=float("inf")):
+    """(x, height) of the deposit in the last snapshot (at or before `until`), in units of L0 and H0: x
+    from the column's initial right edge, one bin per grid cell, height = highest point top in the bin
+    above the base (bins without points are left out)."""
+    snapshot = read_vtu(snapshot_at(run_folder, until)[1])
     x = (snapshot.xy[:, 0] - geometry["wall"] - geometry["L0"]) / geometry["L0"]
     top = (snapshot.xy[:, 1] + geometry["radius"] - geometry["base"]) / geometry["H0"]
     bins = np.floor(x * geometry["L0"] / h).astype(int)
@@ -32,9 +36,9 @@ def profile(run_folder, geometry, h):
     return (edges + 1) * h / geometry["L0"], heights
 
 
-def last_snapshot_time(run_folder):
+def last_snapshot_time(run_folder, until=float("inf")):
     """Time [s] of the snapshot the profile is read from."""
-    return float(read_pvd(Path(run_folder) / "points.pvd")[-1][0])
+    return float(snapshot_at(run_folder, until)[0])
 
 
 def edge(x, height, fraction):

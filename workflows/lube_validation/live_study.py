@@ -17,8 +17,9 @@ for a run that never gets there, at its end (flagged, with its kinetic energy ov
   /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke] [--remeasure]
 
 Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md,
-OUT/live.png and, once the live column at L0/h = 20 is in, OUT/live_grid.png (the a = 1 deposits of the
-live column and its twin on both grids). Cases run as separate calls into one OUT (side by side) are collected together.
+OUT/live.png and, once the live a = 1 column is in on both grids, OUT/live_grid.json and OUT/live_grid.png
+(both measured at the earlier of their ends). Cases run as separate calls into one OUT (side by side) are
+collected together.
 --remeasure measures the finished runs again and runs nothing. --smoke runs a two-point-wide column of
 27-sphere cells for a few milliseconds past the gate (the CI test).
 """
@@ -47,6 +48,7 @@ CELL_RESULTS = HERE.parent / "cell_response" / "results"
 PREPARATION_PRESSURE = 500  # [Pa], about the mean weight of the a = 1 column
 GATE = 0.05  # [s]
 H, PPC = 0.02, 1  # L0/h = 10, one point (one cell) per grid cell
+GRID_PAIR = ("live_a1", "live_a1_h0.01")  # the live column on two grids
 
 
 @functools.cache
@@ -125,10 +127,10 @@ def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
     else:
         material = twin_material(inertial=law == "drucker_prager_mu_i")
         young, poisson = material["young"], material["poisson"]
-    # The twin's low friction (about 20°) runs out beyond twice Lube's runout on the finer grid.
+    # The finer grid runs out beyond twice Lube's runout: the twin (about 20° of friction), and the live
+    # column, whose front left a grid of twice that room at 0.83 s (stop 35).
     scene = column_scene.scene(a, study.WIDTH, h, ppc, end=end_time(a, smoke), material=material,
-                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE,
-                               room=2 if law == "live" else 4)
+                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE, room=4)
     scene["time"]["stop_at_rest"] = {"kinetic_energy_fraction": study.REST, "not_before": earliest_rest(a)}
     return scene
 
@@ -200,23 +202,30 @@ def plot(results, out, file):
     plt.close(fig)
 
 
-def plot_grid(results, file):
-    """The a = 1 deposits of the live column and of its Drucker–Prager twin on the two grids (one point per
-    cell), from the recorded profiles, with Lube's runout: what halving h does to each."""
-    runs = {(r["law"], r["h"]): r for r in results
-            if r["a"] == 1.0 and r["points_per_cell"] == PPC and r.get("seed") in (1, None)
-            and r.get("spheres") in (125, None) and not r.get("failed")}
-    if ("live", H / 2) not in runs:
-        return
+def grid_pair(out):
+    """The a = 1 live column on both grids (live_a1 and live_a1_h0.01 in `out`) measured at one time, the
+    earlier of the two runs' ends, so that a run stopped early is compared where it stopped; [] unless
+    both runs are there."""
+    chosen = {c[0]: c for c in cases(False) if c[0] in GRID_PAIR}
+    folders = [out / name for name in GRID_PAIR]
+    if not all((f / "run" / "series.csv").exists() for f in folders):
+        return []
+    until = min(read_csv(f / "run" / "series.csv")["t"][-1] for f in folders)
+    return [{"case": name, "h": chosen[name][5], "until": float(until),
+             **study.measure(out / name, 1.0, chosen[name][5], chosen[name][6], earliest_rest(1.0), or_at_end=True,
+                             until=until)} for name in GRID_PAIR]
+
+
+def plot_grid(pair, file):
+    """The deposits of the grid pair at their common time, with Lube's runout."""
     fig, ax = plt.subplots(figsize=(6, 3))
-    for (law, h), colour in ((("live", H), "tab:blue"), (("live", H / 2), "tab:blue"),
-                             (("drucker_prager", H), "tab:red"), (("drucker_prager", H / 2), "tab:red")):
-        if (r := runs.get((law, h))):
-            ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", color=colour, ls="-" if h == H else "--",
-                    label=f"{'live DEM cells' if law == 'live' else 'Drucker–Prager twin'}, L0/h = {study.WIDTH / h:.0f}")
-    ax.axvline(column_scene.lube_runout(1.0), color="k", ls=":", lw=0.8, label="Lube et al. 2005")
+    for r, style in zip(pair, ("-", "--")):
+        ax.step(r["profile"]["x"], r["profile"]["height"], where="pre", ls=style,
+                label=f"L0/h = {study.WIDTH / r['h']:.0f}, t = {r['profile_time']:.2f} s (front at {r['rest_time']:.2f} s)")
+    ax.axvline(column_scene.lube_runout(1.0), color="k", ls=":", lw=0.8, label="Lube et al. 2005 (at rest)")
     ax.set_xlabel("(x − L0) / L0")
     ax.set_ylabel("deposit height / H0")
+    ax.set_title("live DEM cells, a = 1", fontsize=9)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(file, dpi=DPI)
@@ -251,7 +260,9 @@ def main():
     twin = twin_material()
     (args.out / "live.md").write_text(table(results, twin))
     plot(results, args.out, args.out / "live.png")
-    plot_grid(results, args.out / "live_grid.png")
+    if pair := grid_pair(args.out):
+        (args.out / "live_grid.json").write_text(json.dumps(pair, indent=2) + "\n")
+        plot_grid(pair, args.out / "live_grid.png")
     print(table(results, twin), end="")
 
 

@@ -65,10 +65,13 @@ def run_scene(folder, scene, build, threads):
     return {"cpu_s": cpu, "wall_s": wall, "failed": error or ""}
 
 
-def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False):
+def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False, until=float("inf")):
     """Runout, final height and deposit of the run in `folder`, at rest; a run that never gets there
-    is measured at its last row when `or_at_end` (with at_rest False), else not at all."""
+    is measured at its last row when `or_at_end` (with at_rest False), else not at all. `until` [s]
+    measures the run as if it had ended then: its rows and snapshots up to that time."""
     series = read_csv(folder / "run" / "series.csv")
+    kept = series["t"] <= until
+    series = {name: column[kept] for name, column in series.items()}
     g = column_scene.geometry(a, WIDTH, h, ppc)
     k = at_rest(series, gate)
     settled = k is not None
@@ -80,14 +83,14 @@ def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False):
     front = series["front"][k] + g["radius"]
     height = series["max_height"][k] + g["radius"]
     runout = (front - g["wall"] - g["L0"]) / g["L0"]
-    x, profile = deposit.profile(folder / "run", g, h)
+    x, profile = deposit.profile(folder / "run", g, h, until)
     energy = series["kinetic_energy"]
     return {**result, "at_rest": settled, "rest_time": float(series["t"][k]), "runout": float(runout),
             "kinetic_energy_fraction": float(energy[k] / max(energy[:k + 1])),
             "final_height": float((height - g["base"]) / g["H0"]),
             "runout_error": float(runout / column_scene.lube_runout(a) - 1),
             "edges": deposit.edges(x, profile), "profile": {"x": x.tolist(), "height": profile.tolist()},
-            "profile_time": deposit.last_snapshot_time(folder / "run")}
+            "profile_time": deposit.last_snapshot_time(folder / "run", until)}
 
 
 def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
