@@ -18,27 +18,18 @@ from plotting.vtu import read_pvd, read_vtu  # noqa: E402
 EDGE_FRACTIONS = (0.05, 0.10, 0.15)  # deposit thickness / H0 at which the edges are reported
 
 
-def snapshot_at(run_folder, until=float("inf")):
-    """(time, file) of the last snapshot at or before `until` [s]."""
-    return [entry for entry in read_pvd(Path(run_folder) / "points.pvd") if entry[0] <= until][-1]
-
-
 def profile(run_folder, geometry, h, until=float("inf")):
-    """(x, height) of the deposit in the last snapshot (at or before `until`), in units of L0 and H0: x
-    from the column's initial right edge, one bin per grid cell, height = highest point top in the bin
-    above the base (bins without points are left out)."""
-    snapshot = read_vtu(snapshot_at(run_folder, until)[1])
+    """(x, height, time) of the deposit in the last snapshot at or before `until` [s], in units of L0
+    and H0: x from the column's initial right edge, one bin per grid cell, height = highest point top in
+    the bin above the base (bins without points are left out); time [s] is the snapshot's."""
+    time, file = [entry for entry in read_pvd(Path(run_folder) / "points.pvd") if entry[0] <= until][-1]
+    snapshot = read_vtu(file)
     x = (snapshot.xy[:, 0] - geometry["wall"] - geometry["L0"]) / geometry["L0"]
     top = (snapshot.xy[:, 1] + geometry["radius"] - geometry["base"]) / geometry["H0"]
     bins = np.floor(x * geometry["L0"] / h).astype(int)
     edges = np.unique(bins)
     heights = np.array([top[bins == b].max() for b in edges])
-    return (edges + 1) * h / geometry["L0"], heights
-
-
-def last_snapshot_time(run_folder, until=float("inf")):
-    """Time [s] of the snapshot the profile is read from."""
-    return float(snapshot_at(run_folder, until)[0])
+    return (edges + 1) * h / geometry["L0"], heights, float(time)
 
 
 def edge(x, height, fraction):

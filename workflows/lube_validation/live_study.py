@@ -206,14 +206,13 @@ def grid_pair(out):
     """The a = 1 live column on both grids (live_a1 and live_a1_h0.01 in `out`) measured at one time, the
     earlier of the two runs' ends, so that a run stopped early is compared where it stopped; [] unless
     both runs are there."""
-    chosen = {c[0]: c for c in cases(False) if c[0] in GRID_PAIR}
-    folders = [out / name for name in GRID_PAIR]
-    if not all((f / "run" / "series.csv").exists() for f in folders):
+    pair = [c for c in cases(False) if c[0] in GRID_PAIR]
+    if not all((out / name / "run" / "series.csv").exists() for name, *_ in pair):
         return []
-    until = min(read_csv(f / "run" / "series.csv")["t"][-1] for f in folders)
-    return [{"case": name, "h": chosen[name][5], "until": float(until),
-             **study.measure(out / name, 1.0, chosen[name][5], chosen[name][6], earliest_rest(1.0), or_at_end=True,
-                             until=until)} for name in GRID_PAIR]
+    until = float(min(read_csv(out / name / "run" / "series.csv")["t"][-1] for name, *_ in pair))
+    return [{"case": name, "h": h, "until": until,
+             **study.measure(out / name, a, h, ppc, earliest_rest(a), or_at_end=True, until=until)}
+            for name, _, a, _, _, h, ppc in pair]
 
 
 def plot_grid(pair, file):

@@ -83,14 +83,14 @@ def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False, 
     front = series["front"][k] + g["radius"]
     height = series["max_height"][k] + g["radius"]
     runout = (front - g["wall"] - g["L0"]) / g["L0"]
-    x, profile = deposit.profile(folder / "run", g, h, until)
+    x, profile, profile_time = deposit.profile(folder / "run", g, h, until)
     energy = series["kinetic_energy"]
     return {**result, "at_rest": settled, "rest_time": float(series["t"][k]), "runout": float(runout),
             "kinetic_energy_fraction": float(energy[k] / max(energy[:k + 1])),
             "final_height": float((height - g["base"]) / g["H0"]),
             "runout_error": float(runout / column_scene.lube_runout(a) - 1),
             "edges": deposit.edges(x, profile), "profile": {"x": x.tolist(), "height": profile.tolist()},
-            "profile_time": deposit.last_snapshot_time(folder / "run", until)}
+            "profile_time": profile_time}
 
 
 def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
