@@ -43,7 +43,6 @@ Answer rate_answer(const PointState& before, const PointState& after, const dem:
           a(1, 1),
           a(2, 2),
           0.5 * (a(0, 1) + a(1, 0)),
-          (after.solid_fraction - before.solid_fraction) / (dt * rate),
           (after.coordination - before.coordination) / (dt * rate),
           (after.damage - before.damage) / (dt * rate)};
 }
@@ -59,9 +58,9 @@ PointState advance(const PointState& state, const dem::Mat3& L, double dt, const
   const dem::Mat3 R = spin_rotation(L, dt);
   PointState next;
   next.stress = R * (state.stress + jaumann * dt) * R.transpose();
-  next.solid_fraction = std::clamp(state.solid_fraction + answer[4] * rate * dt, 1e-6, 1 - 1e-6);
-  next.coordination = std::max(state.coordination + answer[5] * rate * dt, 0.0);
-  next.damage = std::clamp(state.damage + answer[6] * rate * dt, state.damage, 1.0);
+  next.solid_fraction = std::clamp(state.solid_fraction * std::exp(-L.trace() * dt), 1e-6, 1 - 1e-6);
+  next.coordination = std::max(state.coordination + answer[4] * rate * dt, 0.0);
+  next.damage = std::clamp(state.damage + answer[5] * rate * dt, state.damage, 1.0);
   return next;
 }
 

@@ -7,6 +7,7 @@
 #include <numbers>
 #include <random>
 
+#include "dem_sampler/cell/matrix_functions.hpp"
 #include "database/surrogate/rate_answer.hpp"
 #include "database/surrogate/state_features.hpp"
 
@@ -124,13 +125,30 @@ TEST(SurrogateFeatures, AnAnswerAdvancesItsOwnIntervalExactly) {
     const dem::Mat3 R = turn(0.5 * (L(1, 0) - L(0, 1)) * 1e-3);
     s1 = R * s1 * R.transpose();
     s1(0, 2) = s1(2, 0) = s1(1, 2) = s1(2, 1) = 0;
-    const PointState before{s0, 0.6, 5, 0.1}, after{s1, 0.59, 5.2, 0.12};
+    const PointState before{s0, 0.6, 5, 0.1}, after{s1, 0.6 * std::exp(-L.trace() * 1e-3), 5.2, 0.12};
     const PointState next = advance(before, L, 1e-3, rate_answer(before, after, L, 1e-3, kConstants), kConstants);
     EXPECT_NEAR((next.stress - after.stress).norm(), 0, 1e-9 * after.stress.norm());
     EXPECT_NEAR(next.solid_fraction, after.solid_fraction, 1e-12);
     EXPECT_NEAR(next.coordination, after.coordination, 1e-12);
     EXPECT_NEAR(next.damage, after.damage, 1e-12);
   }
+}
+
+TEST(SurrogateFeatures, TheSolidFractionFollowsTheVolumeWhateverTheAnswer) {
+  // Mass conservation: the spheres keep their volume, so φ V is constant and, over any number of
+  // steps, φ = φ_0 / det F with F the product of the steps' exp(L Δt), whatever the answers say.
+  std::mt19937 rng(5);
+  PointState state{-300 * dem::Mat3::Identity(), 0.62, 6, 0};
+  double det_F = 1;
+  std::uniform_real_distribution<double> any(-50, 50);
+  for (int step = 0; step < 200; ++step) {
+    const dem::Mat3 L = random_plane_gradient(rng);
+    Answer answer;
+    for (double& a : answer) a = any(rng);
+    state = advance(state, L, 1e-3, answer, kConstants);
+    det_F *= dem::matrix_exponential(L * 1e-3).determinant();
+  }
+  EXPECT_NEAR(state.solid_fraction, 0.62 / det_F, 1e-12);
 }
 
 }  // namespace
