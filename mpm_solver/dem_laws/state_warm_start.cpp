@@ -1,5 +1,6 @@
 #include "mpm_solver/dem_laws/state_warm_start.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -12,6 +13,8 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
                                const surrogate::LengthScales& scales, const StateWarmStartSettings& settings)
     : snapshots_(std::move(snapshots)), constants_(constants), scales_(scales), settings_(settings) {
   if (snapshots_.empty()) throw std::invalid_argument("state warm start: no snapshot to start from");
+  if (std::none_of(snapshots_.begin(), snapshots_.end(), [](const StateSnapshot& s) { return s.state.damage == 0; }))
+    throw std::invalid_argument("state warm start: no undamaged snapshot (the template) to start an undamaged point from");
   if (!(settings_.stress_tolerance > 0))
     throw std::invalid_argument("fallback.stress_tolerance: expected a positive stress [Pa]");
   if (!(settings_.servo_inertial_number > 0))
@@ -19,7 +22,10 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
-  for (const StateSnapshot& s : snapshots_) keys_.push_back(key(s.state));
+  for (const StateSnapshot& s : snapshots_) {
+    keys_.push_back(key(s.state));
+    one_bond_.push_back(s.cell.initial_bond_count > 0 ? 1.0 / static_cast<double>(s.cell.initial_bond_count) : 0.0);
+  }
 }
 
 StateWarmStart::StateKey StateWarmStart::key(const surrogate::PointState& state) const {
@@ -35,6 +41,7 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
   std::size_t best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < keys_.size(); ++i) {
+    if (snapshots_[i].state.damage > state.damage + one_bond_[i]) continue;
     double d = 0;
     for (std::size_t j = 0; j < kStateFeatures; ++j) d += (keys_[i][j] - q[j]) * (keys_[i][j] - q[j]);
     if (d < best_distance) {

@@ -9,6 +9,10 @@
 //   η sin 3θ, φ, Z and D (state_features.hpp), each difference divided by the surrogate's length
 //   scale of that feature, so "near" means what the surrogate's own fit found to matter. Ties go to
 //   the earlier snapshot. Deterministic and safe from any number of threads.
+// - It never starts a point from a cell with more broken bonds than the point's D (by more than one
+//   bond, 1/N_b(0)): bonds do not heal, so such a cell is a weaker material than the point's history
+//   made, for good (near D = 0 every other snapshot lies above the point, so without this rule a
+//   warm start could only raise its damage). The template (D = 0) always qualifies.
 // - start() copies that cell and servos it at inertial number servo_inertial_number (at the target's
 //   pressure) until its windowed mean stress is within `stress_tolerance` of the point's in every
 //   component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
@@ -47,7 +51,8 @@ struct WarmStartOutcome {
 
 class StateWarmStart {
  public:
-  // Throws std::invalid_argument on an empty snapshot list or bad settings.
+  // Throws std::invalid_argument on an empty snapshot list, one without an undamaged snapshot, or bad
+  // settings.
   StateWarmStart(std::vector<StateSnapshot> snapshots, const surrogate::FeatureConstants& constants,
                  const surrogate::LengthScales& scales, const StateWarmStartSettings& settings);
 
@@ -63,6 +68,7 @@ class StateWarmStart {
 
   std::vector<StateSnapshot> snapshots_;
   std::vector<StateKey> keys_;
+  std::vector<double> one_bond_;  // 1/N_b(0) of each snapshot's cell (0 without bonds)
   surrogate::FeatureConstants constants_;
   surrogate::LengthScales scales_;
   StateWarmStartSettings settings_;

@@ -249,14 +249,39 @@ TEST(SurrogateLaw, AStateWarmStartFindsTheNearestSnapshotAndServosItToThePointsS
   EXPECT_GE(started, 2);
 }
 
+// Bonds do not heal: a point is never started from a cell that has broken more bonds than its own
+// damage says (by more than one bond), however near that cell is in every other respect.
+TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
+  auto law = surrogate_law(settings(200));
+  const StateWarmStart* warm = law->state_warm_start();
+  ASSERT_NE(warm, nullptr);
+  int damaged = 0;
+  for (std::size_t i = 0; i < shared().snapshots.size(); ++i) {
+    const surrogate::PointState& stored = shared().snapshots[i].state;
+    if (stored.damage == 0) continue;
+    ++damaged;
+    surrogate::PointState intact = stored;  // the same stress, φ and Z, no bond broken
+    intact.damage = 0;
+    const std::size_t chosen = warm->nearest(intact);
+    const dem::CellState& cell = warm->snapshot(chosen).cell;
+    EXPECT_LE(warm->snapshot(chosen).state.damage, 1.0 / static_cast<double>(cell.initial_bond_count))
+        << "snapshot " << i;
+    // With the point's own damage, the same snapshot is its nearest again.
+    EXPECT_EQ(warm->nearest(stored), i);
+  }
+  EXPECT_GE(damaged, 5) << "the library should hold damaged snapshots to test with";
+}
+
 // Along a motion the library does not cover, a point that goes live starts from a servoed snapshot:
 // no increment of its history is replayed, and its stress does not jump: the change of stress over
 // the step on which it goes live exceeds the largest change over a step between two live steps of
 // the same motion by at most the servo's tolerance.
 TEST(SurrogateLaw, APointGoesLiveFromAServoedSnapshotWithoutReplayOrJump) {
   const std::vector<Mat2> motion = off_library_motion();
-  const double tolerance = median_tolerance(motion);
-  auto law = surrogate_law(settings(tolerance, 2));
+  SurrogateLawSettings s = settings(median_tolerance(motion), 2);
+  s.state_warm_start.stress_tolerance = 200;
+  const double tolerance = s.state_warm_start.stress_tolerance;
+  auto law = surrogate_law(s);
   Driver d = new_point(*law);
   double largest_live_step = 0, largest_jump = 0;
   int transitions = 0;
