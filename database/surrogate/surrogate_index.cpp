@@ -83,12 +83,19 @@ std::size_t SurrogateIndex::size() const {
   return tree_->samples.size();
 }
 
+double SurrogateIndex::largest_stiffness() const {
+  const std::shared_lock lock(mutex_);
+  return largest_stiffness_;
+}
+
 void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   if (samples.empty()) return;
   const std::lock_guard gate(turnstile_);
   const std::unique_lock lock(mutex_);
   const std::size_t first = tree_->samples.size();
   for (const Sample& s : samples) {
+    // features[0] = ln(p/p_ref), p the effective pressure of the normalization (state_features.hpp).
+    largest_stiffness_ = std::max(largest_stiffness_, stress_norm(s.answer) * constants_.p_ref * std::exp(s.features[0]));
     FeatureVector z;
     for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = s.features[j] / scales_[j];
     tree_->samples.push_back(s);

@@ -61,6 +61,10 @@ class SurrogateIndex {
   const LengthScales& scales() const { return scales_; }
   const SurrogateOptions& options() const { return options_; }
   std::size_t size() const;
+  // The stiffest response among the samples, max ‖σ̇ᴶ‖/|D| = stress_norm(answer) · p [Pa], p the
+  // sample's effective pressure: what the library has seen a cell do (surrogate_step bounds its
+  // answers by it).
+  double largest_stiffness() const;
 
   void insert(const std::vector<Sample>& samples);
 
@@ -77,6 +81,7 @@ class SurrogateIndex {
   mutable std::mutex turnstile_;
   mutable std::shared_mutex mutex_;
   std::unique_ptr<Tree> tree_;  // guarded by mutex_
+  double largest_stiffness_ = 0;  // guarded by mutex_
 };
 
 }  // namespace grainbank::surrogate

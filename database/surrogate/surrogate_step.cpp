@@ -12,7 +12,12 @@ SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& stat
     return step;
   }
   step.prediction = index.predict(feature_vector(state_features(state, L, index.constants())));
-  step.state = advance(state, L, dt, step.prediction.fit.answer, index.constants());
+  Answer answer = step.prediction.fit.answer;
+  const double stiffness = stress_norm(answer) * effective_pressure(state.stress, index.constants());
+  const double stiffest = index.largest_stiffness();
+  if (stiffness > stiffest)
+    for (std::size_t c = 0; c < kStressAnswers; ++c) answer[c] *= stiffest / stiffness;
+  step.state = advance(state, L, dt, answer, index.constants());
   step.estimated_error = step.prediction.fit.stress_error * scale * dt;
   step.hit = step.estimated_error <= tolerance;
   return step;

@@ -6,6 +6,11 @@
 //   hit        = error ≤ tolerance [Pa]
 // A point at rest or in a pure spin (|D| = 0) only turns its stress by R = exp(W dt), with zero
 // error: the answers are rates per unit of stretching (relaxation at rest is not represented).
+// The stress rate is bounded by the index's largest_stiffness: no cell of the library answered
+// stiffer. Answers scale with p, so a fit extrapolated to a stiffer answer than its samples grows the
+// stress exponentially (measured on a motion the test library does not cover: σ_xx −8 kPa to
+// −1.9 MPa in 0.01 s); bounded, it grows at most as fast as the library's stiffest cell. The
+// estimated error is the fit's, unbounded, so the point still goes live on it.
 #pragma once
 #include "database/surrogate/surrogate_index.hpp"
 
