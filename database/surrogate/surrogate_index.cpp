@@ -83,25 +83,24 @@ std::size_t SurrogateIndex::size() const {
   return tree_->samples.size();
 }
 
-double SurrogateIndex::largest_stiffness() const {
-  const std::shared_lock lock(mutex_);
-  return largest_stiffness_;
-}
+double SurrogateIndex::largest_stiffness() const { return largest_stiffness_.load(std::memory_order_relaxed); }
 
 void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   if (samples.empty()) return;
   const std::lock_guard gate(turnstile_);
   const std::unique_lock lock(mutex_);
   const std::size_t first = tree_->samples.size();
+  double stiffest = largest_stiffness_.load(std::memory_order_relaxed);
   for (const Sample& s : samples) {
     // features[0] = ln(p/p_ref), p the effective pressure of the normalization (state_features.hpp).
-    largest_stiffness_ = std::max(largest_stiffness_, stress_norm(s.answer) * constants_.p_ref * std::exp(s.features[0]));
+    stiffest = std::max(stiffest, stress_norm(s.answer) * constants_.p_ref * std::exp(s.features[0]));
     FeatureVector z;
     for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = s.features[j] / scales_[j];
     tree_->samples.push_back(s);
     tree_->scaled.push_back(z);
   }
   tree_->index.addPoints(first, tree_->samples.size() - 1);
+  largest_stiffness_.store(stiffest, std::memory_order_relaxed);
 }
 
 Prediction SurrogateIndex::predict(const FeatureVector& features) const { return answer(features, std::nullopt); }

@@ -16,6 +16,7 @@
 //   querying threads took 55 s without it). Samples inserted are visible to queries that start
 //   after insert() returns.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -81,7 +82,8 @@ class SurrogateIndex {
   mutable std::mutex turnstile_;
   mutable std::shared_mutex mutex_;
   std::unique_ptr<Tree> tree_;  // guarded by mutex_
-  double largest_stiffness_ = 0;  // guarded by mutex_
+  // Written by insert() under mutex_; read without it, since surrogate_step asks on every step.
+  std::atomic<double> largest_stiffness_{0};
 };
 
 }  // namespace grainbank::surrogate

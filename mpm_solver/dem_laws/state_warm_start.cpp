@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
@@ -22,10 +23,7 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
-  for (const StateSnapshot& s : snapshots_) {
-    keys_.push_back(key(s.state));
-    one_bond_.push_back(s.cell.initial_bond_count > 0 ? 1.0 / static_cast<double>(s.cell.initial_bond_count) : 0.0);
-  }
+  for (const StateSnapshot& s : snapshots_) keys_.push_back(key(s.state));
 }
 
 StateWarmStart::StateKey StateWarmStart::key(const surrogate::PointState& state) const {
@@ -41,7 +39,9 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
   std::size_t best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < keys_.size(); ++i) {
-    if (snapshots_[i].state.damage > state.damage + one_bond_[i]) continue;
+    const std::int64_t bonds = snapshots_[i].cell.initial_bond_count;
+    const double one_bond = bonds > 0 ? 1.0 / static_cast<double>(bonds) : 0.0;
+    if (snapshots_[i].state.damage > state.damage + one_bond) continue;
     double d = 0;
     for (std::size_t j = 0; j < kStateFeatures; ++j) d += (keys_[i][j] - q[j]) * (keys_[i][j] - q[j]);
     if (d < best_distance) {

@@ -68,7 +68,6 @@ class StateWarmStart {
 
   std::vector<StateSnapshot> snapshots_;
   std::vector<StateKey> keys_;
-  std::vector<double> one_bond_;  // 1/N_b(0) of each snapshot's cell (0 without bonds)
   surrogate::FeatureConstants constants_;
   surrogate::LengthScales scales_;
   StateWarmStartSettings settings_;

@@ -2,8 +2,14 @@
 rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
 scene generator's column is what the study measures, with or without μ(I)."""
 import json
+import math
+import shutil
+import sys
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
+
+sys.path.insert(0, str(WORKFLOWS / "lube_validation"))
+import live_study  # noqa: E402  (after the path set-up)
 
 
 class LubeValidationTest(WorkflowTest):
@@ -68,10 +74,6 @@ class LiveLubeTest(WorkflowTest):
     def test_grid_pair_is_measured_at_one_time(self):
         """The grid comparison measures both runs at the earlier of their ends: the smoke run under both
         names is measured twice at its last row and snapshot, and without the pair nothing is drawn."""
-        import shutil
-        import sys
-        sys.path.insert(0, str(WORKFLOWS / "lube_validation"))
-        import live_study
         run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "live_study.py", self.out, "--smoke", "--build", BUILD])
         self.assertEqual(live_study.grid_pair(self.out), [])
         pair_out = self.out / "pair"
@@ -89,10 +91,6 @@ class LiveLubeTest(WorkflowTest):
     def test_twin_friction_is_the_cells_critical_state(self):
         """The twin's cone: sin φ is the μ_s of the cell's μ(I) fit, which lies in the published
         range for spheres with μ_p = 0.5 within the fit's own scatter; its moduli are the cell's."""
-        import math
-        import sys
-        sys.path.insert(0, str(WORKFLOWS / "lube_validation"))
-        import live_study
         twin = live_study.twin_material()
         mu_s = math.sin(math.radians(twin["friction_angle"]))
         self.assertAlmostEqual(mu_s, live_study.critical_state_ratio(), places=12)
