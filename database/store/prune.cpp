@@ -66,7 +66,7 @@ PruneReport prune_snapshots(Library& library, std::int64_t keep_per_path, bool d
   }
   library.catalogue().delete_snapshots(removed_ids);
   for (const auto& [shard_id, groups] : dropped_by_shard)
-    Shard::rewrite_without(library.shard_path(library.catalogue().shard(shard_id)), groups);
+    Shard::rewrite_without(library.shard_path(library.catalogue().shard(shard_id)), {groups, {}});
   report.bytes_after = shard_bytes(library);
   return report;
 }

@@ -141,21 +141,27 @@ void Shard::remove_group(const std::string& group) { h5::remove_child(file_, gro
 
 void Shard::truncate_records(std::int64_t path_id, std::uint64_t rows) { h5::resize_rows(records_table(path_id), rows); }
 
-void Shard::rewrite_without(const std::filesystem::path& file, const std::set<std::string>& dropped) {
+void Shard::rewrite_without(const std::filesystem::path& file, const Omitted& omitted) {
   const std::filesystem::path copy_file = std::filesystem::path(file).replace_extension(".repair.h5");
   std::filesystem::remove(copy_file);
   try {
     const Shard source = open(file, false);
     Shard copy = create(copy_file, h5::read_string_attribute(source.file_, "shard"), source.parameter_hash());
     const auto copy_kept = [&](const std::string& group) {
-      if (!dropped.count(group)) h5::copy_object(source.file_, copy.file_, group);
+      if (!omitted.groups.count(group)) h5::copy_object(source.file_, copy.file_, group);
     };
     for (const std::string& token : source.template_tokens()) copy_kept(template_group(token));
     for (const std::int64_t id : source.path_ids()) {
-      if (dropped.count(path_group(id))) continue;
-      // Rebuilt member by member: some of its snapshots may be dropped.
-      h5::create_group(h5::create_group(copy.file_, path_group(id)), "snapshots");
-      h5::copy_object(source.file_, copy.file_, path_group(id) + "/records");
+      if (omitted.groups.count(path_group(id))) continue;
+      // Rebuilt member by member: some of its snapshots or rows may be left out.
+      const auto cut = omitted.rows_kept.find(id);
+      if (cut == omitted.rows_kept.end()) {
+        h5::create_group(h5::create_group(copy.file_, path_group(id)), "snapshots");
+        h5::copy_object(source.file_, copy.file_, path_group(id) + "/records");
+      } else {
+        copy.create_path(id);
+        copy.append_records(id, source.read_records(id, 0, cut->second));
+      }
       for (const std::int64_t index : source.snapshot_indices(id)) copy_kept(snapshot_group(id, index));
     }
     copy.flush();

@@ -9,6 +9,7 @@
 #pragma once
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -54,12 +55,18 @@ class Shard {
   std::vector<std::int64_t> snapshot_indices(std::int64_t path_id) const;
   void remove_group(const std::string& group);
   void truncate_records(std::int64_t path_id, std::uint64_t rows);
-  // Replaces the shard file by a copy without the groups in `dropped` (each with everything below
-  // it). HDF5 cannot unlink a group whose object header a killed writer left half written; a copy
-  // that leaves it out can (and gives back the space of what it leaves out). The copy is written
-  // next to the file as <name>.repair.h5, synced, then renamed over it: a crash leaves the old file
-  // or the new one, plus at worst that stray copy. No writer may have the shard open.
-  static void rewrite_without(const std::filesystem::path& file, const std::set<std::string>& dropped);
+  // What a rewrite leaves out: whole groups (each with everything below it), and the rows of some
+  // records tables past a count (path id -> rows kept).
+  struct Omitted {
+    std::set<std::string> groups;
+    std::map<std::int64_t, std::uint64_t> rows_kept;
+  };
+  // Replaces the shard file by a copy without what `omitted` names. HDF5 can neither unlink a group
+  // whose object header a killed writer left half written, nor shrink a table whose chunk index it
+  // left unreadable; a copy that leaves them out can (and gives back their space). The copy is
+  // written next to the file as <name>.repair.h5, synced, then renamed over it: a crash leaves the
+  // old file or the new one, plus at worst that stray copy. No writer may have the shard open.
+  static void rewrite_without(const std::filesystem::path& file, const Omitted& omitted);
 
  private:
   explicit Shard(h5::Object file) : file_(std::move(file)) {}

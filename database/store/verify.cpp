@@ -34,13 +34,31 @@ struct ShardChecker {
     }
   }
 
-  // Orphan groups are removed together, after the check, by rewriting the shard without them.
-  std::set<std::string>& orphan_groups;
-  std::vector<std::size_t>& orphan_group_findings;
+  // Orphans HDF5 cannot remove in place are removed together, after the check, by rewriting the
+  // shard without them (Shard::rewrite_without); their findings are marked repaired then.
+  Shard::Omitted& rewrite;
+  std::vector<std::size_t>& rewrite_findings;
   void orphan_group(const std::string& group, const std::string& message) {
-    orphan_groups.insert(group);
-    orphan_group_findings.push_back(report.findings.size());
+    rewrite.groups.insert(group);
+    rewrite_findings.push_back(report.findings.size());
     add(Kind::orphan, group, message);
+  }
+
+  // Uncommitted rows are cut in place; a table whose chunk index a killed writer left unreadable
+  // cannot be resized, so it is cut in the rewrite.
+  void uncommitted_rows(std::int64_t path_id, std::uint64_t rows, std::uint64_t committed) {
+    const std::string table = Shard::path_group(path_id) + "/records";
+    const std::string message = std::to_string(rows - committed) + " uncommitted rows after the " +
+                                std::to_string(committed) + " committed records";
+    if (!repair) return add(Kind::orphan, table, message);
+    try {
+      shard.truncate_records(path_id, committed);
+      add(Kind::orphan, table, message, true);
+    } catch (const StoreError&) {
+      rewrite.rows_kept[path_id] = committed;
+      rewrite_findings.push_back(report.findings.size());
+      add(Kind::orphan, table, message);
+    }
   }
 
   void check(const std::vector<TemplateRow>& templates, const std::vector<PathRow>& paths,
@@ -83,13 +101,7 @@ struct ShardChecker {
         continue;
       }
       if (readable(table, [&] { shard.read_records(id, 0, committed); })) report.records += path->record_count;
-      if (rows > committed) {
-        if (repair) shard.truncate_records(id, committed);
-        add(Kind::orphan, table,
-            std::to_string(rows - committed) + " uncommitted rows after the " + std::to_string(committed) +
-                " committed records",
-            repair);
-      }
+      if (rows > committed) uncommitted_rows(id, rows, committed);
     }
 
     for (const std::int64_t id : shard.path_ids()) {
@@ -150,32 +162,32 @@ void make_openable(const std::filesystem::path& shard) {
 }
 
 // Checks one shard; with `repair`, truncates uncommitted rows in place and rewrites the shard without
-// its orphan groups, unless it holds damaged committed data: such a shard is left as it is.
+// the orphans that cannot be removed in place, unless it holds damaged committed data: such a shard
+// is left as it is.
 void check_shard(Library& library, bool repair, VerifyReport& report, const ShardRow& row,
                  const std::vector<TemplateRow>& templates, const std::vector<PathRow>& paths,
                  const std::vector<SnapshotRow>& snapshots) {
   const std::filesystem::path file = library.shard_path(row);
   if (repair) make_openable(file);
   const std::size_t first_finding = report.findings.size();
-  std::set<std::string> orphan_groups;
-  std::vector<std::size_t> orphan_group_findings;
+  Shard::Omitted rewrite;
+  std::vector<std::size_t> rewrite_findings;
   {
     Shard shard = Shard::open(file, repair);
-    ShardChecker{library, repair, report, row, shard, orphan_groups, orphan_group_findings}.check(templates, paths,
-                                                                                                   snapshots);
+    ShardChecker{library, repair, report, row, shard, rewrite, rewrite_findings}.check(templates, paths, snapshots);
     if (repair) shard.flush();
   }
   if (!repair && h5::cut_short(file)) report.findings.push_back(cut_short_finding(file));
-  if (!repair || orphan_groups.empty()) return;
+  if (!repair || rewrite_findings.empty()) return;
   const bool damaged = std::any_of(report.findings.begin() + static_cast<std::ptrdiff_t>(first_finding),
                                    report.findings.end(), [](const Finding& f) { return f.kind == Kind::inconsistency; });
   if (damaged) {
-    for (const std::size_t k : orphan_group_findings)
+    for (const std::size_t k : rewrite_findings)
       report.findings[k].message += " (left: repair does not rewrite a shard with damaged committed data)";
     return;
   }
-  Shard::rewrite_without(file, orphan_groups);
-  for (const std::size_t k : orphan_group_findings) report.findings[k].repaired = true;
+  Shard::rewrite_without(file, rewrite);
+  for (const std::size_t k : rewrite_findings) report.findings[k].repaired = true;
 }
 
 }  // namespace

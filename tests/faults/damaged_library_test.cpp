@@ -8,9 +8,13 @@
 
 #include <hdf5.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fstream>
+#include <iterator>
+#include <set>
 
+#include "database/store/path_queue.hpp"
 #include "tests/faults/library_fault_util.hpp"
 
 namespace grainbank::faults {
@@ -124,6 +128,64 @@ TEST_F(LibraryFaults, OrphanGroupWithDamagedHeaderIsRemovedByRewritingTheShard) 
   EXPECT_NO_THROW(opened.template_cell(1));
   db::ShardWriter writer(opened, "rank0");
   EXPECT_NO_THROW(writer.start_path(pending));
+}
+
+// Offsets of HDF5 extensible-array headers ("EAHD", the chunk index of a records table) in `file`.
+std::set<std::size_t> extensible_array_headers(const fs::path& file) {
+  const std::string bytes = sampler::test::slurp(file);
+  std::set<std::size_t> at;
+  for (std::size_t k = bytes.find("EAHD"); k != std::string::npos; k = bytes.find("EAHD", k + 1)) at.insert(k);
+  return at;
+}
+
+// Seen in a trial of SigkillAtRandomMomentsLosesNothingCommitted: a kill inside the flush that wrote
+// a new path's first rows left the chunk index of its records table unreadable ("incorrect metadata
+// checksum"), so HDF5 can neither shrink the table nor unlink it. Nothing in it was committed:
+// repair rewrites the shard with the table cut to its committed rows, and the path can start again.
+TEST_F(LibraryFaults, UncommittedRowsBehindADamagedChunkIndexAreRemovedByRewritingTheShard) {
+  const fs::path lib = fresh_library("lib", true);
+  const fs::path shard = lib / "shards" / "rank0.h5";
+  std::int64_t interrupted = 0;
+  const std::set<std::size_t> before = extensible_array_headers(shard);
+  {  // a path whose first two rows were flushed, not committed
+    db::Library opened = db::Library::open(lib);
+    interrupted = opened.catalogue().insert_path(1, R"({"segments": []})", opened.parameter_hash());
+    db::ShardWriter writer(opened, "rank0");
+    writer.start_path(interrupted);
+    writer.shard().append_records(interrupted, {reference_->at(1)[0], reference_->at(1)[1]});
+    writer.shard().flush();
+  }
+  std::vector<std::size_t> added;
+  std::ranges::set_difference(extensible_array_headers(shard), before, std::back_inserter(added));
+  ASSERT_EQ(added.size(), 1u) << "the new table's chunk index";
+  {
+    std::fstream f(shard, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekp(static_cast<std::streamoff>(added[0] + 6));
+    f.write("\xff\xff", 2);
+  }
+  const std::string table = db::Shard::path_group(interrupted) + "/records";
+
+  const Verification found = celldb_verify(lib, false, here_.path());
+  EXPECT_EQ(found.exit_code, 1);
+  ASSERT_EQ(found.report["findings"].size(), 1u) << found.report.dump(1);
+  EXPECT_EQ(found.report["findings"][0]["kind"], "orphan");
+  EXPECT_EQ(found.report["findings"][0]["object"], table);
+
+  const Verification repaired = celldb_verify(lib, true, here_.path());
+  EXPECT_EQ(repaired.exit_code, 0) << repaired.report.dump(1);
+  const Verification after = celldb_verify(lib, false, here_.path());
+  EXPECT_TRUE(after.report["findings"].empty()) << after.report.dump(1);
+  EXPECT_EQ(after.report["checked"]["snapshots"], found.report["checked"]["snapshots"]);
+  EXPECT_FALSE(fs::exists(lib / "shards" / "rank0.repair.h5"));
+
+  db::Library opened = db::Library::open(lib);
+  for (const auto& [id, records] : *reference_) EXPECT_EQ(opened.records(id), records) << "path " << id;
+  EXPECT_TRUE(opened.records(interrupted).empty());
+  db::reset_running_paths(opened.catalogue());
+  db::ShardWriter writer(opened, "rank0");
+  writer.start_path(interrupted);
+  writer.append_records(interrupted, {reference_->at(1)[0]});
+  EXPECT_EQ(writer.shard().record_rows(interrupted), 1u);
 }
 
 }  // namespace
