@@ -21,8 +21,10 @@ std::int64_t start_of(const std::vector<std::int64_t>& snapshots, std::int64_t r
 }
 
 // Replays checks[first, last) (one path, one start) in one drive.
+// `records`: the path's stored records (a pressure servo resumes from the L of the start's).
 void replay_group(db::Library& library, const db::PathRow& row, const sampler::PathPlan& plan,
-                  std::vector<ReplayCheck>::iterator first, std::vector<ReplayCheck>::iterator last) {
+                  const std::vector<db::Record>& records, std::vector<ReplayCheck>::iterator first,
+                  std::vector<ReplayCheck>::iterator last) {
   const std::int64_t start = first->from_record;
   const std::int64_t end = std::prev(last)->record.record_index;
   auto next = first;  // the first check not replayed yet
@@ -35,7 +37,7 @@ void replay_group(db::Library& library, const db::PathRow& row, const sampler::P
           if (r.index == next->record.record_index) (next++)->replayed = db::to_stress6(r.stress);
           if (r.index >= end) throw Reached{};
         },
-        static_cast<long>(start));
+        static_cast<long>(start), records.at(static_cast<std::size_t>(start)).L);
     for (auto it = next; it != last; ++it) it->error = "the path's spec ends before this record";
   } catch (const Reached&) {
   } catch (const std::exception& e) {
@@ -88,7 +90,7 @@ std::vector<ReplayCheck> replay_records(db::Library& library, const std::vector<
     while (first != path_end) {
       const auto group_end =
           std::find_if(first, path_end, [&](const ReplayCheck& c) { return c.from_record != first->from_record; });
-      replay_group(library, row, *plan, first, group_end);
+      replay_group(library, row, *plan, stored.at(path_id), first, group_end);
       first = group_end;
     }
   }

@@ -23,10 +23,14 @@ struct PathRecord {
 long increment_count(const PathSpec& path);
 
 // Calls `on_record` with the initial state (L zero, no substeps) and after every increment. Engine errors propagate.
+// A record's L is the gradient the increment applied: a pressure-controlled segment's (path_input.hpp)
+// adds its servo's isotropic stretching to the segment's L.
 // With `from_record` = k > 0 the cell is the path's cell right after record k (a snapshot of it): the
 // drive resumes there, calling `on_record` for records k+1, ... with the same increments, so they
-// repeat the full drive's records bit for bit (what `celldb audit` checks).
+// repeat the full drive's records bit for bit (what `celldb audit` checks); `resumed_gradient` is
+// then record k's L, from which a pressure-controlled segment's servo goes on.
 void drive_along_path(dem::DemCell& cell, const PathSpec& path,
-                      const std::function<void(const PathRecord&)>& on_record, long from_record = 0);
+                      const std::function<void(const PathRecord&)>& on_record, long from_record = 0,
+                      const dem::Mat3& resumed_gradient = dem::Mat3::Zero());
 
 }  // namespace grainbank::app

@@ -23,9 +23,12 @@ dem::Mat3 read_in_plane_gradient(const JsonNode& node) {
 }
 
 PathSegment read_segment(const JsonNode& node) {
-  node.allow_only({"L", "duration", "strain"});
+  node.allow_only({"L", "duration", "strain", "pressure"});
   PathSegment segment;
   segment.L = read_in_plane_gradient(node.at("L", "a 2x2 array [[Lxx, Lxy], [Lyx, Lyy]] [1/s]"));
+  segment.pressure = node.number_or("pressure", 0.0, Range::positive());
+  if (segment.pressure > 0 && !(strain_rate_norm(segment.L) > 0))
+    node.at("pressure", "").fail("a pressure-controlled segment needs a stretching L to servo (L has no symmetric part)");
   const auto duration = node.find("duration");
   const auto strain = node.find("strain");
   if (duration && strain) strain->fail("give either duration or strain, not both");

@@ -14,6 +14,10 @@ namespace grainbank::app {
 struct PathSegment {
   dem::Mat3 L = dem::Mat3::Zero();  // plane strain: the z row and column are zero [1/s]
   double duration = 0;              // [s], always > 0 (a strain target is converted on reading)
+  // [Pa] > 0: mixed control. The in-plane isotropic part of each increment's gradient is servoed to
+  // hold this mean pressure (path_driver.hpp), so a shear can flow at a chosen pressure, as a point
+  // of a free-surface flow does; 0: L is imposed as it is.
+  double pressure = 0;
 };
 
 struct PathSpec {

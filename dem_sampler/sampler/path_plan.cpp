@@ -9,8 +9,11 @@ using common::Range;
 
 nlohmann::json to_json(const PathPlan& plan) {
   nlohmann::json segments = nlohmann::json::array();
-  for (const app::PathSegment& s : plan.path.segments)
-    segments.push_back({{"L", {{s.L(0, 0), s.L(0, 1)}, {s.L(1, 0), s.L(1, 1)}}}, {"duration", s.duration}});
+  for (const app::PathSegment& s : plan.path.segments) {
+    nlohmann::json segment = {{"L", {{s.L(0, 0), s.L(0, 1)}, {s.L(1, 0), s.L(1, 1)}}}, {"duration", s.duration}};
+    if (s.pressure > 0) segment["pressure"] = s.pressure;  // absent otherwise: older specs keep their hash
+    segments.push_back(segment);
+  }
   const dem::Substepping& q = plan.path.substepping;
   return {{"segments", segments},
           {"record_interval", plan.path.record_interval},

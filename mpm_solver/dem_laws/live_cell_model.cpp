@@ -66,13 +66,8 @@ double LiveCellModel::volume_ratio(const dem::DemCell& cell) const {
   return cell.deformation_gradient().determinant() / template_volume_ratio_;
 }
 
-ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t) {
-  const double scale = solid_fraction * coordination / (std::numbers::pi * mean_radius);
-  return {scale * k_n / 6, scale * (2 * k_n + 3 * k_t) / 20};
-}
-
 double LiveCellModel::modulus(const dem::CellMeasures& m) const {
-  return voigt_moduli(m.solid_fraction, m.coordination, mean_radius_, material_.contact.k_n, material_.contact.k_t)
+  return dem::voigt_moduli(m.solid_fraction, m.coordination, mean_radius_, material_.contact.k_n, material_.contact.k_t)
       .p_wave();
 }
 

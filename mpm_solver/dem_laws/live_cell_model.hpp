@@ -4,6 +4,7 @@
 // behaves exactly like a point of the live law.
 #pragma once
 #include "dem_sampler/cell/dem_cell.hpp"
+#include "dem_sampler/cell/effective_medium.hpp"
 #include "mpm_solver/core/coupling_status.hpp"
 #include "mpm_solver/core/kinematic_increment.hpp"
 #include "mpm_solver/core/types.hpp"
@@ -21,16 +22,6 @@ struct LiveDemSettings {
 // equilibrium of moments, so its symmetric part is taken (as the reference implementation does).
 PointStress plane_stress_of(const dem::Mat3& stress);
 
-// Effective-medium (Voigt, affine) moduli of a packing of spheres of mean radius R at solid fraction
-// φ and coordination Z whose pairs have normal and tangential stiffnesses k_n, k_t: every pair
-// follows the mean strain, so K = φ Z k_n / (6 π R) and G = φ Z (2 k_n + 3 k_t) / (20 π R) (on a
-// simple cubic lattice, K = k_n / (6R) exactly). Relaxation of the grains only softens a packing,
-// so the wave speed from these bounds the true one and the CFL step it gives is safe.
-struct ElasticModuli {
-  double bulk = 0, shear = 0;
-  double p_wave() const { return bulk + 4 * shear / 3; }
-};
-ElasticModuli voigt_moduli(double solid_fraction, double coordination, double mean_radius, double k_n, double k_t);
 
 class LiveCellModel {
  public:

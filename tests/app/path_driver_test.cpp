@@ -7,6 +7,7 @@
 #include "dem_sampler/cell/matrix_functions.hpp"
 #include "dem_sampler/cell/substepping.hpp"
 #include "dem_sampler/app/record_table.hpp"
+#include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank {
 namespace {
@@ -69,6 +70,64 @@ TEST(PathDriver, RecordsEveryIncrementAndEndsSegmentsExactly) {
   for (std::size_t k = 1; k < records.size(); ++k) {
     EXPECT_EQ(records[k].L, k <= 4 ? L : compression) << k;
     EXPECT_EQ(records[k].substeps, dem::substep_count(durations[k], dem_step, path.substepping.q_n)) << k;
+  }
+}
+
+double mean_pressure(const std::vector<app::PathRecord>& records, std::size_t from) {
+  double sum = 0;
+  for (std::size_t k = from; k < records.size(); ++k) sum += -records[k].stress.trace() / 3;
+  return sum / static_cast<double>(records.size() - from);
+}
+
+// Mixed control: simple shear whose in-plane isotropic part is servoed to a pressure. A frictional
+// packing prepared at 10 kPa, sheared at 20 /s (I ≈ 0.007, quasi-static) to 0.3 at 5 and 20 kPa: over
+// the second half its mean pressure is the target's, though the same shear at constant volume ends
+// elsewhere; every record's L is the shear plus an isotropic part no faster than the shear; and a
+// drive resumed from a mid-path cell repeats the records bit for bit (the servo reads only the cell).
+TEST(PathDriver, APressureControlledShearFlowsAtItsPressureAndResumesExactly) {
+  const dem::DemCell prepared = dem::prepare_cell(dem::test::small_material(), dem::test::small_spec(64, 21));
+  Mat3 shear = Mat3::Zero();
+  shear(0, 1) = 2;
+  const double rate = app::strain_rate_norm(shear);
+  const auto drive = [&](double pressure) {
+    app::PathSpec path;
+    path.record_interval = 2e-4;
+    path.segments.push_back({shear, 0.1 / rate, pressure});
+    dem::DemCell cell = prepared;
+    std::vector<app::PathRecord> records;
+    std::vector<dem::CellState> states;
+    app::drive_along_path(cell, path, [&](const app::PathRecord& r) {
+      records.push_back(r);
+      states.push_back(cell.state());
+    });
+    return std::tuple{path, records, states};
+  };
+  const auto [free_path, free_records, free_states] = drive(0);
+  const double constant_volume = mean_pressure(free_records, free_records.size() / 2);
+  for (const double target : {5e3, 2e4}) {
+    SCOPED_TRACE("target " + std::to_string(target) + " Pa");
+    const auto [path, records, states] = drive(target);
+    const double held = mean_pressure(records, records.size() / 2);
+    EXPECT_NEAR(held, target, 0.15 * target) << "at constant volume: " << constant_volume << " Pa";
+    EXPECT_GT(std::abs(constant_volume - target), 0.3 * target) << "the test needs a shear that does not hold the target by itself";
+    for (std::size_t k = 1; k < records.size(); ++k) {
+      const Mat3 added = records[k].L - shear;
+      EXPECT_EQ(added(0, 1), 0);
+      EXPECT_EQ(added(1, 0), 0);
+      EXPECT_EQ(added(0, 0), added(1, 1));
+      EXPECT_LE(std::abs(added(0, 0)), rate);
+      EXPECT_EQ(added(2, 2), 0);
+    }
+    const long from = static_cast<long>(records.size()) / 3;
+    dem::DemCell resumed(states[static_cast<std::size_t>(from)], prepared.material(), prepared.skin());
+    std::size_t k = static_cast<std::size_t>(from);
+    app::drive_along_path(resumed, path, [&](const app::PathRecord& r) {
+      ASSERT_LT(++k, records.size());
+      EXPECT_EQ(r.index, records[k].index);
+      EXPECT_EQ(r.L, records[k].L);
+      EXPECT_EQ(r.stress, records[k].stress) << "record " << k;
+    }, from, records[static_cast<std::size_t>(from)].L);
+    EXPECT_EQ(k + 1, records.size());
   }
 }
 

@@ -1,5 +1,5 @@
 // `celldb audit` on a real small library sampled with the real sampler (64-sphere cohesive cell, six
-// short paths, snapshots every 10 records): a clean library replays bit for bit, a record whose stress
+// short paths, one of them pressure-controlled, snapshots every 10 records): a clean library replays bit for bit, a record whose stress
 // was overwritten in its HDF5 shard is flagged with its path and index, leave-one-path-out errors are
 // finite and far above the (round-off) in-index errors, and the run leaves its outputs and an audits row.
 #include <gtest/gtest.h>
@@ -28,13 +28,22 @@ using sampler::test::TempDir;
 // Column of sigma_xx in a records row (SCHEMA.md: t, F (9), L (9), then the stresses).
 constexpr hsize_t kSigmaXx = 19;
 
-// Prepares the template and samples every path of kPaths in-process, as `dem_sampler prepare` and
-// `sample --threads 1` do.
+// kPaths with its first path's shear held at a pressure (mixed control, path_driver.hpp): its replay
+// from the snapshot at record 10 continues the pressure servo from that record's L.
+std::string audit_paths() {
+  std::string paths = kPaths;
+  const std::string shear = R"("duration": 0.004})";
+  paths.replace(paths.find(shear), shear.size(), R"("duration": 0.004, "pressure": 2000})");
+  return paths;
+}
+
+// Prepares the template and samples every path of audit_paths() in-process, as `dem_sampler prepare`
+// and `sample --threads 1` do.
 void build_library(const TempDir& dir, const fs::path& library_dir) {
   const app::CellInput input = app::load_cell_input(dir.write("cell.json", kCell));
   db::Library library = db::Library::create(library_dir, input.material);
   const std::int64_t template_id = sampler::prepare_template(library, "templates", input).id;
-  for (const sampler::PathPlan& plan : sampler::load_paths_file(dir.write("paths.json", kPaths)))
+  for (const sampler::PathPlan& plan : sampler::load_paths_file(dir.write("paths.json", audit_paths())))
     library.add_path(template_id, sampler::to_json(plan), library.material());
   db::ShardWriter shard(library, "rank0");
   sampler::LibraryWriter writer(library, shard);

@@ -49,8 +49,8 @@ TEST(CellWaveSpeed, SimpleCubicLatticeHasTheExactAffineBulkModulus) {
   const double measured_bulk = -response.trace() / 3 / 3;
   const double exact = material.contact.k_n / (6 * R);
   EXPECT_NEAR(measured_bulk, exact, 1e-3 * exact) << "the lattice itself";
-  const ElasticModuli estimate =
-      voigt_moduli(m.solid_fraction, m.coordination, R, material.contact.k_n, material.contact.k_t);
+  const dem::ElasticModuli estimate =
+      dem::voigt_moduli(m.solid_fraction, m.coordination, R, material.contact.k_n, material.contact.k_t);
   EXPECT_NEAR(estimate.bulk, exact, 1e-3 * exact);
 }
 
