@@ -112,6 +112,7 @@ class DemCell {
   std::size_t contact_count() const;           // pairs with overlap
   // Pairs in contact or bonded at the last measured step: 0 for a cell whose spheres fly free.
   std::int64_t interacting_pairs() const { return active_pairs_; }
+  std::int64_t initial_bond_count() const { return initial_bonds_; }  // N_b(0) of seed Eq. 6
   double max_overlap() const;                  // largest -d_n / (R_i + R_j) over the pairs (0: none)
   std::int64_t flips() const { return flips_; }
   std::int64_t list_builds() const { return list_builds_; }

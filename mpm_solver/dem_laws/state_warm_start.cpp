@@ -34,16 +34,25 @@ StateWarmStart::StateKey StateWarmStart::key(const surrogate::PointState& state)
   return k;
 }
 
+double StateWarmStart::distance(const StateKey& a, const StateKey& b) {
+  double d = 0;
+  for (std::size_t j = 0; j < kStateFeatures; ++j) d += (a[j] - b[j]) * (a[j] - b[j]);
+  return d;
+}
+
+bool StateWarmStart::not_more_damaged(const surrogate::PointState& cell, std::int64_t bonds,
+                                      const surrogate::PointState& point) {
+  const double one_bond = bonds > 0 ? 1.0 / static_cast<double>(bonds) : 0.0;
+  return cell.damage <= point.damage + one_bond;
+}
+
 std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
   const StateKey q = key(state);
   std::size_t best = 0;
   double best_distance = std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < keys_.size(); ++i) {
-    const std::int64_t bonds = snapshots_[i].cell.initial_bond_count;
-    const double one_bond = bonds > 0 ? 1.0 / static_cast<double>(bonds) : 0.0;
-    if (snapshots_[i].state.damage > state.damage + one_bond) continue;
-    double d = 0;
-    for (std::size_t j = 0; j < kStateFeatures; ++j) d += (keys_[i][j] - q[j]) * (keys_[i][j] - q[j]);
+    if (!not_more_damaged(snapshots_[i].state, snapshots_[i].cell.initial_bond_count, state)) continue;
+    const double d = distance(keys_[i], q);
     if (d < best_distance) {
       best_distance = d;
       best = i;
@@ -52,12 +61,22 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
   return best;
 }
 
-WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model) const {
+WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model,
+                                       const std::optional<OwnCell>& own) const {
   const std::size_t index = nearest(state);
-  dem::DemCell cell = model.cell_from(snapshots_[index].cell);
+  const StateKey q = key(state);
+  const bool from_own = own && not_more_damaged(own->state, own->cell.initial_bond_count(), state) &&
+                        distance(key(own->state), q) <= distance(keys_[index], q);
+  dem::DemCell cell = from_own ? own->cell : model.cell_from(snapshots_[index].cell);
+  const dem::StressServoResult result = servo(cell, state, model);
+  return {std::move(cell), index, from_own, result};
+}
+
+dem::StressServoResult StateWarmStart::servo(dem::DemCell& cell, const surrogate::PointState& target,
+                                             const LiveCellModel& model) const {
   // Quasi-static: the servo moves the cell at inertial number I at the target's pressure, and an
   // error of that pressure drives it at full rate.
-  const double pressure = surrogate::effective_pressure(state.stress, constants_);
+  const double pressure = surrogate::effective_pressure(target.stress, constants_);
   dem::StressServoSettings servo;
   servo.tolerance = settings_.stress_tolerance;
   servo.stress_scale = pressure;
@@ -65,8 +84,7 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
   servo.dt = cell.time_step(model.settings().substepping.q_t);
   servo.max_steps = settings_.max_servo_steps;
   // The MPM sees the symmetric part of a cell's stress (plane_stress_of); so does the servo.
-  const dem::StressServoResult result = dem::servo_to_stress(cell, 0.5 * (state.stress + state.stress.transpose()), servo);
-  return {std::move(cell), index, result};
+  return dem::servo_to_stress(cell, 0.5 * (target.stress + target.stress.transpose()), servo);
 }
 
 }  // namespace grainbank::mpm

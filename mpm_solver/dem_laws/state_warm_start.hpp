@@ -16,12 +16,18 @@
 // - start() copies that cell and servos it at inertial number servo_inertial_number (at the target's
 //   pressure) until its windowed mean stress is within `stress_tolerance` of the point's in every
 //   component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
+// - A point that was live before may also start from its own former cell (`own`, with the state the
+//   point had when it handed that cell back): it carries the point's own fabric and broken bonds,
+//   and is taken when it is at least as near as the nearest snapshot and not more damaged (the same
+//   rule). A point that went back to the surrogate a few steps ago then needs little servoing.
 // - A servo that does not converge (max_servo_steps, or no progress: the point's stress lies beyond
 //   what the packing can carry, e.g. a surrogate state that drifted past the yield surface) leaves
 //   the cell at the nearest stress it could reach; the outcome says so, and the caller keeps that
 //   cell or replays the point's history instead (`replay_unconverged`).
 #pragma once
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "dem_sampler/cell/stress_servo.hpp"
@@ -45,8 +51,15 @@ struct StateWarmStartSettings {
 
 struct WarmStartOutcome {
   dem::DemCell cell;         // where the servo left it, converged or not
-  std::size_t snapshot = 0;  // index of the snapshot it started from
+  std::size_t snapshot = 0;  // index of the snapshot it started from (when not from its own cell)
+  bool own = false;          // started from the point's own former cell
   dem::StressServoResult servo;
+};
+
+// A point's own former cell and the point's state when it handed the cell back.
+struct OwnCell {
+  const surrogate::PointState& state;
+  const dem::DemCell& cell;
 };
 
 class StateWarmStart {
@@ -59,12 +72,17 @@ class StateWarmStart {
   std::size_t size() const { return snapshots_.size(); }
   const StateSnapshot& snapshot(std::size_t i) const { return snapshots_[i]; }
   std::size_t nearest(const surrogate::PointState& state) const;
-  WarmStartOutcome start(const surrogate::PointState& state, const LiveCellModel& model) const;
+  WarmStartOutcome start(const surrogate::PointState& state, const LiveCellModel& model,
+                         const std::optional<OwnCell>& own = std::nullopt) const;
 
  private:
   static constexpr std::size_t kStateFeatures = 6;  // the leading, loading-free entries of the key
   using StateKey = std::array<double, kStateFeatures>;
   StateKey key(const surrogate::PointState& state) const;
+  static double distance(const StateKey& a, const StateKey& b);
+  // Whether a cell in state `cell` with `bonds` initial bonds may start a point in state `point`.
+  static bool not_more_damaged(const surrogate::PointState& cell, std::int64_t bonds, const surrogate::PointState& point);
+  dem::StressServoResult servo(dem::DemCell& cell, const surrogate::PointState& target, const LiveCellModel& model) const;
 
   std::vector<StateSnapshot> snapshots_;
   std::vector<StateKey> keys_;

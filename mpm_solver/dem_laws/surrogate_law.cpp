@@ -77,7 +77,12 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     advance_live(slot, p, increment, L, stress);
     p.steps_inside = inside ? p.steps_inside + 1 : 0;
     if (settings_.return_after > 0 && p.steps_inside >= settings_.return_after) {
-      p.cell.reset();  // the point keeps the cell's state
+      // The point keeps the cell's state, and the cell for its next live spell.
+      if (warm_start_) {
+        p.parked = std::move(p.cell);
+        p.parked_state = p.state;
+      }
+      p.cell.reset();
       --live_points_;
       p.steps_inside = 0;
       ++p.counters.returned_to_cache;
@@ -109,7 +114,10 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
   // The history already holds this step's increment, which advance_live applies.
   const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
   if (warm_start_ && how == LiveStart::by_setting && !before.empty()) {
-    WarmStartOutcome outcome = warm_start_->start(p.state, model_);
+    std::optional<OwnCell> own;
+    if (p.parked) own.emplace(OwnCell{p.parked_state, *p.parked});
+    WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
+    p.parked.reset();
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
     if (!outcome.servo.converged) ++p.counters.servo_unconverged;
     if (outcome.servo.converged || !settings_.state_warm_start.replay_unconverged)
@@ -172,24 +180,47 @@ namespace {
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
 // since its state was last rebuilt from its history [Pa]; live cells as
 // "cell_<slot>"; the replay histories as append_history writes them; the learned samples as rows
-// features, answer, origin path, origin record, in insertion order.
-constexpr std::size_t kPointColumns = 16;
+// features, answer, origin path, origin record, in insertion order; per kept cell: slot and the
+// state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>".
+constexpr std::size_t kStateColumns = 12;
+constexpr std::size_t kPointColumns = 1 + kStateColumns + 3;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
+constexpr std::size_t kParkedColumns = 1 + kStateColumns;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
+std::string parked_cell_name(std::size_t slot) { return "parked_" + std::to_string(slot); }
+
+void append_state(std::vector<double>& rows, const surrogate::PointState& state) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) rows.push_back(state.stress(i, j));
+  rows.insert(rows.end(), {state.solid_fraction, state.coordination, state.damage});
+}
+
+surrogate::PointState state_from(const double* row) {
+  surrogate::PointState state;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) state.stress(i, j) = row[3 * i + j];
+  state.solid_fraction = row[9];
+  state.coordination = row[10];
+  state.damage = row[11];
+  return state;
+}
 
 }  // namespace
 
 void SurrogateLaw::save_state(LawStateWriter& out) const {
-  std::vector<double> rows, history, samples;
+  std::vector<double> rows, history, samples, parked;
   for (std::size_t slot = 0; slot < points_.size(); ++slot) {
     const Point& p = points_[slot];
     rows.push_back(double(slot));
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) rows.push_back(p.state.stress(i, j));
-    rows.insert(rows.end(), {p.state.solid_fraction, p.state.coordination, p.state.damage, p.cell ? 1.0 : 0.0,
-                             double(p.steps_inside), p.spent});
+    append_state(rows, p.state);
+    rows.insert(rows.end(), {p.cell ? 1.0 : 0.0, double(p.steps_inside), p.spent});
     append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
+    if (p.parked) {
+      parked.push_back(double(slot));
+      append_state(parked, p.parked_state);
+      out.write_cell(parked_cell_name(slot), *p.parked);
+    }
   }
   {
     const std::lock_guard<std::mutex> guard(learned_mutex_);
@@ -202,6 +233,7 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
   out.write_table("surrogate_points", rows, kPointColumns);
   out.write_table("replay_history", history, kHistoryColumns);
   out.write_table("surrogate_learned", samples, kSampleColumns);
+  out.write_table("surrogate_parked", parked, kParkedColumns);
 }
 
 void SurrogateLaw::restore_state(LawStateReader& in) {
@@ -213,11 +245,7 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
   for (std::size_t r = 0; r < rows.size(); r += kPointColumns) {
     const auto slot = static_cast<std::size_t>(rows[r]);
     Point& p = points_.at(slot);
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) p.state.stress(i, j) = rows[r + 1 + 3 * i + j];
-    p.state.solid_fraction = rows[r + 10];
-    p.state.coordination = rows[r + 11];
-    p.state.damage = rows[r + 12];
+    p.state = state_from(&rows[r + 1]);
     p.steps_inside = static_cast<int>(rows[r + 14]);
     p.spent = rows[r + 15];
     p.error = 0;
@@ -228,6 +256,14 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     p.cell = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(cell_name(slot))));
     ++live_points_;
     p.source = StressSource::live;
+  }
+  for (Point& p : points_) p.parked.reset();
+  const std::vector<double> parked = in.read_table("surrogate_parked", kParkedColumns);
+  for (std::size_t r = 0; r < parked.size(); r += kParkedColumns) {
+    const auto slot = static_cast<std::size_t>(parked[r]);
+    Point& p = points_.at(slot);
+    p.parked_state = state_from(&parked[r + 1]);
+    p.parked = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(parked_cell_name(slot))));
   }
   const std::vector<double> table = in.read_table("surrogate_learned", kSampleColumns);
   std::vector<surrogate::Sample> samples;

@@ -26,12 +26,13 @@
 //   origin is path −(slot + 1), record = the index of the increment in the point's history.
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
-//   was within the tolerance (0: it stays live).
+//   was within the tolerance (0: it stays live). It keeps that cell: its next state warm start
+//   begins from it when it is at least as near to the point's state as every stored snapshot.
 // - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
-// - save_state/restore_state keep each point's state, live flag, steps inside, replay history and
-//   cell, and the samples learned so far: a restart continues bit for bit.
+// - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
+//   cell and kept cell, and the samples learned so far: a restart continues bit for bit.
 // Limitation: with several threads, whether a point sees a sample inserted by another point during
 // the same MPM step depends on timing (one thread, or points that only learn from themselves, are
 // deterministic).
@@ -107,6 +108,10 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     double error = 0;
     StressSource source = StressSource::hit;
     std::unique_ptr<dem::DemCell> cell;       // live only
+    // The cell the point handed back when it last returned to the surrogate, and the point's state
+    // then: a start for its next live spell (state_warm_start.hpp).
+    std::unique_ptr<dem::DemCell> parked;
+    surrogate::PointState parked_state;
     int steps_inside = 0;                     // consecutive live steps within the tolerance
     double spent = 0;                         // [Pa] estimated errors summed since the last replay
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay

@@ -272,6 +272,33 @@ TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
   EXPECT_GE(damaged, 5) << "the library should hold damaged snapshots to test with";
 }
 
+// A point that handed its cell back starts its next live spell from that cell when it is nearer
+// than every snapshot: the cell then already carries the point's stress and needs one servo window,
+// where a snapshot needed more. A kept cell with more broken bonds than the point is not taken.
+TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellWhenItIsNearest) {
+  auto law = surrogate_law(settings(200));
+  const StateWarmStart* warm = law->state_warm_start();
+  ASSERT_NE(warm, nullptr);
+  const LiveCellModel model(*shared().cell, LiveDemSettings{});
+  const auto longest = std::max_element(shared().paths.begin(), shared().paths.end(),
+                                        [](const auto& a, const auto& b) { return a.size() < b.size(); });
+  int compared = 0;
+  for (std::size_t k = 3; k < longest->size(); k += 5) {
+    const surrogate::PointState target = surrogate::point_state((*longest)[k]);
+    const WarmStartOutcome first = warm->start(target, model);
+    if (!first.servo.converged || first.servo.steps <= 50) continue;  // a snapshot that needed servoing
+    const WarmStartOutcome again = warm->start(target, model, OwnCell{target, first.cell});
+    EXPECT_TRUE(again.own) << "record " << k;
+    EXPECT_TRUE(again.servo.converged) << "record " << k;
+    EXPECT_LT(again.servo.steps, first.servo.steps) << "record " << k;
+    surrogate::PointState broken = target;
+    broken.damage = target.damage + 0.2;
+    EXPECT_FALSE(warm->start(target, model, OwnCell{broken, first.cell}).own) << "record " << k;
+    ++compared;
+  }
+  EXPECT_GE(compared, 2);
+}
+
 // Along a motion the library does not cover, a point that goes live starts from a servoed snapshot:
 // no increment of its history is replayed, and its stress does not jump: the change of stress over
 // the step on which it goes live exceeds the largest change over a step between two live steps of
@@ -323,7 +350,9 @@ Solver one_point_solver(const SurrogateLawSettings& s) {
 SurrogateLaw& law_of(Solver& solver) { return dynamic_cast<SurrogateLaw&>(solver.law(0)); }
 
 TEST(SurrogateLaw, ARestartContinuesBitForBit) {
-  const std::vector<Mat2> motion = off_library_motion();
+  // Compressed and sheared, then stretched: the point goes live, returns, and goes live again.
+  std::vector<Mat2> motion(20, off_library_motion().front());
+  motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
   const SurrogateLawSettings s = settings(median_tolerance(motion), 2);
   Solver straight = one_point_solver(s);
   Driver d;
@@ -334,28 +363,35 @@ TEST(SurrogateLaw, ARestartContinuesBitForBit) {
     expected.push_back(d.stress);
     sources.push_back(law_of(straight).source(0));
   }
-  // Restart one step after the point first went live: its cell, history and learned samples matter.
+  // Restart one step after the point first went live (its cell, history and learned samples
+  // matter), and one step after it first handed its cell back, before it goes live again (the kept
+  // cell it will start from matters).
   const auto live = std::find(sources.begin(), sources.end(), StressSource::live);
   ASSERT_NE(live, sources.end());
-  const auto restart_after = static_cast<std::size_t>(live - sources.begin()) + 2;
-  ASSERT_LT(restart_after, motion.size());
-
-  Solver first = one_point_solver(s);
-  Driver e;
-  for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
-  const std::filesystem::path file = shared().dir.path() / "restart.h5";
-  io::write_restart(file, first);
-  Solver resumed = one_point_solver(s);
-  io::read_restart(file, resumed);
-  EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
-  for (std::size_t k = restart_after; k < motion.size(); ++k) {
-    e(law_of(resumed), motion[k], kDt);
-    EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
-    EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
-    EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+  const auto back = std::find(live, sources.end(), StressSource::hit);
+  ASSERT_NE(back, sources.end()) << "the point never returned to the surrogate";
+  ASSERT_NE(std::find(back, sources.end(), StressSource::live), sources.end()) << "nor went live again";
+  for (const auto restart_after : {static_cast<std::size_t>(live - sources.begin()) + 2,
+                                   static_cast<std::size_t>(back - sources.begin()) + 1}) {
+    SCOPED_TRACE("restart after step " + std::to_string(restart_after));
+    ASSERT_LT(restart_after, motion.size());
+    Solver first = one_point_solver(s);
+    Driver e;
+    for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
+    const std::filesystem::path file = shared().dir.path() / "restart.h5";
+    io::write_restart(file, first);
+    Solver resumed = one_point_solver(s);
+    io::read_restart(file, resumed);
+    EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
+    for (std::size_t k = restart_after; k < motion.size(); ++k) {
+      e(law_of(resumed), motion[k], kDt);
+      EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
+      EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
+      EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+    }
+    EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
+    EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
   }
-  EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
-  EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
 }
 
 std::filesystem::path write_scene(const std::string& material_extra, const std::string& fallback_extra = "") {
