@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <set>
 
 #include "database/store/path_queue.hpp"
@@ -86,6 +87,29 @@ void corrupt_object_header(const fs::path& file, const std::string& object) {
   f.write("XXXX", 4);
 }
 
+// `lib` holds exactly one orphan, at `object`, that only a rewrite of its shard removes: verify finds
+// it (exit 1), repair removes it (exit 0, marked repaired) leaving a clean library with every
+// snapshot and committed record and no stray copy.
+void expect_one_orphan_removed_by_rewrite(const fs::path& lib, const std::string& object, const fs::path& scratch,
+                                          const std::map<std::int64_t, std::vector<db::Record>>& reference) {
+  const Verification found = celldb_verify(lib, false, scratch);
+  EXPECT_EQ(found.exit_code, 1);
+  ASSERT_EQ(found.report["findings"].size(), 1u) << found.report.dump(1);
+  EXPECT_EQ(found.report["findings"][0]["kind"], "orphan");
+  EXPECT_EQ(found.report["findings"][0]["object"], object);
+
+  const Verification repaired = celldb_verify(lib, true, scratch);
+  EXPECT_EQ(repaired.exit_code, 0) << repaired.report.dump(1);
+  EXPECT_TRUE(repaired.report["findings"][0]["repaired"].get<bool>()) << repaired.report.dump(1);
+  const Verification after = celldb_verify(lib, false, scratch);
+  EXPECT_TRUE(after.report["findings"].empty()) << after.report.dump(1);
+  EXPECT_EQ(after.report["checked"]["snapshots"], found.report["checked"]["snapshots"]);
+  EXPECT_FALSE(fs::exists(lib / "shards" / "rank0.repair.h5"));
+  db::Library opened = db::Library::open(lib);
+  for (const auto& [id, records] : reference) EXPECT_EQ(opened.records(id), records) << "path " << id;
+  EXPECT_NO_THROW(opened.template_cell(1));
+}
+
 TEST_F(LibraryFaults, OrphanGroupWithDamagedHeaderIsRemovedByRewritingTheShard) {
   const fs::path lib = fresh_library("lib", true);
   const fs::path shard = lib / "shards" / "rank0.h5";
@@ -109,23 +133,8 @@ TEST_F(LibraryFaults, OrphanGroupWithDamagedHeaderIsRemovedByRewritingTheShard) 
       EXPECT_NE(std::string(e.what()).find("celldb verify " + lib.string() + " --repair"), std::string::npos) << e.what();
     }
   }
-  const Verification found = celldb_verify(lib, false, here_.path());
-  EXPECT_EQ(found.exit_code, 1);
-  ASSERT_EQ(found.report["findings"].size(), 1u) << found.report.dump(1);
-  EXPECT_EQ(found.report["findings"][0]["kind"], "orphan");
-  EXPECT_EQ(found.report["findings"][0]["object"], db::Shard::path_group(pending));
-
-  const Verification repaired = celldb_verify(lib, true, here_.path());
-  EXPECT_EQ(repaired.exit_code, 0) << repaired.report.dump(1);
-  EXPECT_TRUE(repaired.report["findings"][0]["repaired"].get<bool>()) << repaired.report.dump(1);
-  const Verification after = celldb_verify(lib, false, here_.path());
-  EXPECT_TRUE(after.report["findings"].empty()) << after.report.dump(1);
-  EXPECT_EQ(after.report["checked"]["snapshots"], found.report["checked"]["snapshots"]);
-  EXPECT_FALSE(fs::exists(lib / "shards" / "rank0.repair.h5"));
-
+  expect_one_orphan_removed_by_rewrite(lib, db::Shard::path_group(pending), here_.path(), *reference_);
   db::Library opened = db::Library::open(lib);
-  for (const auto& [id, records] : *reference_) EXPECT_EQ(opened.records(id), records) << "path " << id;
-  EXPECT_NO_THROW(opened.template_cell(1));
   db::ShardWriter writer(opened, "rank0");
   EXPECT_NO_THROW(writer.start_path(pending));
 }
@@ -165,21 +174,8 @@ TEST_F(LibraryFaults, UncommittedRowsBehindADamagedChunkIndexAreRemovedByRewriti
   }
   const std::string table = db::Shard::path_group(interrupted) + "/records";
 
-  const Verification found = celldb_verify(lib, false, here_.path());
-  EXPECT_EQ(found.exit_code, 1);
-  ASSERT_EQ(found.report["findings"].size(), 1u) << found.report.dump(1);
-  EXPECT_EQ(found.report["findings"][0]["kind"], "orphan");
-  EXPECT_EQ(found.report["findings"][0]["object"], table);
-
-  const Verification repaired = celldb_verify(lib, true, here_.path());
-  EXPECT_EQ(repaired.exit_code, 0) << repaired.report.dump(1);
-  const Verification after = celldb_verify(lib, false, here_.path());
-  EXPECT_TRUE(after.report["findings"].empty()) << after.report.dump(1);
-  EXPECT_EQ(after.report["checked"]["snapshots"], found.report["checked"]["snapshots"]);
-  EXPECT_FALSE(fs::exists(lib / "shards" / "rank0.repair.h5"));
-
+  expect_one_orphan_removed_by_rewrite(lib, table, here_.path(), *reference_);
   db::Library opened = db::Library::open(lib);
-  for (const auto& [id, records] : *reference_) EXPECT_EQ(opened.records(id), records) << "path " << id;
   EXPECT_TRUE(opened.records(interrupted).empty());
   db::reset_running_paths(opened.catalogue());
   db::ShardWriter writer(opened, "rank0");
