@@ -51,7 +51,6 @@ class PressureServo {
   static constexpr double kJammedCoordination = 4;
 
   PressureServo(const PathSegment& segment, double alpha) : segment_(&segment), alpha_(alpha) {}
-  double alpha() const { return alpha_; }
 
   dem::Mat3 gradient(const dem::DemCell& cell, double dt) {
     if (segment_->pressure <= 0) return segment_->L;
