@@ -41,40 +41,31 @@ PathRecord record_of(const dem::DemCell& cell, long index, const dem::Mat3& L, l
 // the error obeys z² − (2 − λ − rc) z + (1 − λ) = 0, stable for every rc < 4 − 2λ. The clip keeps the
 // cell from opening or closing faster than it shears; at steady isochoric flow (the critical state)
 // α → 0 at p = P.
-class PressureServo {
- public:
-  static constexpr double kCorrected = 0.5;  // c
-  static constexpr double kLeak = 0.1;       // λ
-  // A loose cell (few contacts, K → 0) jams within a small volume change: the gain takes at least the
-  // stiffness of a frictional packing at its isostatic coordination, Z = 4, or one increment closing
-  // a loose cell would overshoot the target many times over.
-  static constexpr double kJammedCoordination = 4;
+constexpr double kCorrected = 0.5;  // c
+constexpr double kLeak = 0.1;       // λ
+// A loose cell (few contacts, K → 0) jams within a small volume change: the gain takes at least the
+// stiffness of a frictional packing at its isostatic coordination, Z = 4, or one increment closing a
+// loose cell would overshoot the target many times over.
+constexpr double kJammedCoordination = 4;
 
-  PressureServo(const PathSegment& segment, double alpha) : segment_(&segment), alpha_(alpha) {}
-
-  dem::Mat3 gradient(const dem::DemCell& cell, double dt) {
-    if (segment_->pressure <= 0) return segment_->L;
-    const dem::CellMeasures m = cell.measures();
-    const std::vector<double>& radius = cell.radii();
-    const double mean_radius = std::accumulate(radius.begin(), radius.end(), 0.0) / static_cast<double>(radius.size());
-    const dem::Material& material = cell.material();
-    const double bulk = dem::voigt_moduli(m.solid_fraction, std::max(m.coordination, kJammedCoordination), mean_radius,
-                                          material.contact.k_n, material.contact.k_t)
-                            .bulk;
-    const double rate = strain_rate_norm(segment_->L);
-    const double error = -cell.stress().trace() / 3 - segment_->pressure;
-    const double step = kCorrected * error / (2 * bulk * dt);
-    alpha_ = std::clamp((1 - kLeak) * alpha_ + step, -rate, rate);
-    dem::Mat3 L = segment_->L;
-    L(0, 0) += alpha_;
-    L(1, 1) += alpha_;
-    return L;
-  }
-
- private:
-  const PathSegment* segment_;
-  double alpha_;
-};
+// The next increment's gradient of `segment`; `alpha` carries α from increment to increment.
+dem::Mat3 controlled_gradient(const PathSegment& segment, const dem::DemCell& cell, double dt, double& alpha) {
+  if (segment.pressure <= 0) return segment.L;
+  const dem::CellMeasures m = cell.measures();
+  const std::vector<double>& radius = cell.radii();
+  const double mean_radius = std::accumulate(radius.begin(), radius.end(), 0.0) / static_cast<double>(radius.size());
+  const dem::Material& material = cell.material();
+  const double bulk = dem::voigt_moduli(m.solid_fraction, std::max(m.coordination, kJammedCoordination), mean_radius,
+                                        material.contact.k_n, material.contact.k_t)
+                          .bulk;
+  const double rate = strain_rate_norm(segment.L);
+  const double error = -cell.stress().trace() / 3 - segment.pressure;
+  alpha = std::clamp((1 - kLeak) * alpha + kCorrected * error / (2 * bulk * dt), -rate, rate);
+  dem::Mat3 L = segment.L;
+  L(0, 0) += alpha;
+  L(1, 1) += alpha;
+  return L;
+}
 
 }  // namespace
 
@@ -92,15 +83,15 @@ void drive_along_path(dem::DemCell& cell, const PathSpec& path,
   for (const PathSegment& segment : path.segments) {
     const long n = segment_increments(segment, path.record_interval);
     const dem::Mat3 full_increment = dem::matrix_exponential(segment.L * path.record_interval);
-    PressureServo servo(segment, 0);
+    double alpha = 0;  // the pressure servo's isotropic stretching, carried over the segment
     for (long k = 1; k <= n; ++k) {
       if (index < from_record) {  // already in the cell we resume from
-        if (++index == from_record) servo = PressureServo(segment, resumed_gradient(0, 0) - segment.L(0, 0));
+        if (++index == from_record) alpha = resumed_gradient(0, 0) - segment.L(0, 0);
         continue;
       }
       const double dt =
           k < n ? path.record_interval : segment.duration - static_cast<double>(n - 1) * path.record_interval;
-      const dem::Mat3 L = servo.gradient(cell, dt);
+      const dem::Mat3 L = controlled_gradient(segment, cell, dt, alpha);
       const dem::Mat3 increment =
           k < n && segment.pressure <= 0 ? full_increment : dem::matrix_exponential(L * dt);
       const dem::IncrementResult result = cell.advance(increment, dt, path.substepping);

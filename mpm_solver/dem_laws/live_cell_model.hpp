@@ -22,7 +22,6 @@ struct LiveDemSettings {
 // equilibrium of moments, so its symmetric part is taken (as the reference implementation does).
 PointStress plane_stress_of(const dem::Mat3& stress);
 
-
 class LiveCellModel {
  public:
   // Throws std::invalid_argument on a bad q_h.
