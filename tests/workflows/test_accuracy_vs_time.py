@@ -1,5 +1,5 @@
 """The accuracy-versus-time study (workflows/accuracy_vs_time/study.py) in its smoke version: the
-tiny column, live reference, two variants and a hybrid run on a library the study enriched with the
+tiny column, live reference, three variants (one the surrogate) and a hybrid run on a library the study enriched with the
 scene's own states; table, Pareto plot and study JSON; resumed with a run left out. The creeping set
 (the former cache_vs_live) on the tiny column: its own cell, no generic paths, its scenes written by
 `mpm_solver scene`."""
@@ -26,7 +26,8 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
-        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "q_sigma_0.5"])
+        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "q_sigma_0.5",
+                                        "surrogate"])
         self.assertEqual(list(rows["live"]), COLUMNS)
         # The reference against itself has no error; the variants are different runs of the same scene.
         self.assertIn(rows["live"]["runout_rel_err"], ("", "0.0"))  # empty: the tiny column ran out < 1 cm
@@ -34,6 +35,13 @@ class AccuracyVsTimeTest(WorkflowTest):
             self.assertEqual(float(rows["live"][key]), 0.0)
         self.assertGreater(float(rows["q_sigma_0.5"]["stress_rel_l2"]), 0.0)
         self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
+        # The surrogate runs as the demo's law does, on the generic library, and answers from it.
+        surrogate = json.loads((self.out / "scenes" / "surrogate.json").read_text())["materials"][0]
+        self.assertEqual((surrogate["law"], surrogate["tolerance"], surrogate["fallback"]["return_after"]),
+                         ("surrogate", 50.0, 5))
+        self.assertEqual(surrogate["library"], str((self.out / "lib").resolve()))
+        self.assertGreater(sum(tables.read_csv(self.out / "runs" / "surrogate" / "series.csv")["hits"]), 0)
+        self.assertGreater(float(rows["surrogate"]["stress_rel_l2"]), 0.0)
         # The noise floor: the live law on a cell packed with another seed is another run, not a copy.
         demo_cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_125.json").read_text())
         other_cell = json.loads((self.out / "cells" / "other_seed.json").read_text())
@@ -64,7 +72,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertTrue(markdown[0].startswith("| run | knob |"))
         self.assert_png(self.out / "pareto.png")
         study = self.assert_json_fields(self.out / "study.json", ["variants", "library_cost", "runs"])
-        self.assertEqual(len(study["runs"]), 6)
+        self.assertEqual(len(study["runs"]), 7)
         for run_name in rows:
             self.assert_run(self.out / "runs" / run_name, end_time=0.003, points=4)
 
@@ -74,7 +82,7 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1", "--skip", "q_sigma_0.5"])
         with (self.out / "results.csv").open() as f:
             self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)),
-                             ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed"])
+                             ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "surrogate"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)
 
     def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
@@ -108,7 +116,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         # leaves): compared at the times both reached, it has no error at all.
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1",
-             "--skip", "other_seed,q_sigma_0.5,hybrid,enriching,hybrid_enriched"])
+             "--skip", "other_seed,q_sigma_0.5,hybrid,surrogate,enriching,hybrid_enriched"])
         reference, stopped = self.out / "runs" / "live", self.out / "stopped"
         shutil.copytree(reference, stopped)
         stop = 0.0015

@@ -2,12 +2,14 @@
 """Accuracy versus time on a column collapse: the scene with `live` as reference and every knob that
 trades accuracy for time (variants.py), error against wall and CPU time as a Pareto plot and a table.
 
-  study.py [OUT] [--scene SCENE.json] [--cell CELL.json] [--paths PATHS.json]
+  study.py [OUT] [--scene SCENE.json] [--cell CELL.json] [--spheres N] [--paths PATHS.json]
                [--variants full|reduced|enriched|creeping|smoke] [--skip RUN,RUN] [--end T] [--threads N] [--build DIR]
 
 Defaults: OUT = $GRAINBANK_OUT/accuracy_vs_time (build/out/accuracy_vs_time); the demo's column
 (workflows/demo/column.json), its soft snow cell and library paths, except for a set with inputs of
-its own (variants.INPUTS: `creeping`, the former cache_vs_live comparison). The variant scenes are
+its own (variants.INPUTS: `creeping`, the former cache_vs_live comparison); `--spheres N` prepares that
+cell, and so the libraries' template and every run, with N spheres (250: the demo column's representative
+cell, workflows/convergence). The variant scenes are
 written by `mpm_solver scene` (plotting/scenes.py). The
 library (OUT/lib, template 1 = the cell) is built first and timed apart: it is a one-off cost shared
 by every library run. Runs on the scene's own library (variants.py, "enriched") use OUT/lib_enriched:
@@ -36,6 +38,15 @@ import variants  # noqa: E402
 WORKFLOWS = HERE.parent
 DEMO_INPUTS = {"scene": WORKFLOWS / "demo" / "column.json", "cell": WORKFLOWS / "demo" / "cell_soft_snow_125.json",
                "paths": WORKFLOWS / "demo" / "paths.json"}
+
+
+def with_spheres(cell_file, spheres, out):
+    """`out`: the cell of `cell_file` prepared with `spheres` spheres."""
+    cell = json.loads(cell_file.read_text())
+    cell["preparation"]["spheres"] = spheres
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(cell, indent=2) + "\n")
+    return out
 
 
 def build_library(args, build):
@@ -102,6 +113,7 @@ def main():
     parser.add_argument("out", type=Path, nargs="?", default=environment.output_dir("accuracy_vs_time"))
     parser.add_argument("--scene", type=Path)
     parser.add_argument("--cell", type=Path)
+    parser.add_argument("--spheres", type=int, help="spheres per cell instead of the cell file's")
     parser.add_argument("--paths", type=Path)
     parser.add_argument("--variants", choices=sorted(variants.SETS), default="full")
     parser.add_argument("--skip", default="", help="runs of the set to leave out, comma-separated (e.g. grid_x0.5)")
@@ -123,6 +135,8 @@ def main():
     if on_enriched and "enriching" not in chosen:
         parser.error("--skip: the runs on the enriched library need the run enriching, which builds it")
     args.out.mkdir(parents=True, exist_ok=True)
+    if args.spheres:
+        args.cell = with_spheres(args.cell, args.spheres, args.out / "cells" / "template.json")
     build = args.build.resolve()
     library, library_cost = build_library(args, build)
     libraries = {"generic": library}

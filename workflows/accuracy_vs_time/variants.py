@@ -21,6 +21,12 @@ def hybrid(start="warm_start", return_after=10, **lookup_keys):
     return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after}, "enrich": False}
 
 
+def surrogate(tolerance_pa=50.0, return_after=5):
+    """The state-keyed surrogate as the demo runs it (tolerance 50 Pa, back after 5 steps within it); a
+    base scene's hybrid fallback start, which the surrogate does not take, is removed (null)."""
+    return {"tolerance": tolerance_pa, "fallback": {"start": None, "return_after": return_after}}
+
+
 NOISE_FLOOR = "other_seed"
 OTHER_SEED = 1001  # the shipped cells are packed with seed 1
 
@@ -45,6 +51,13 @@ FULL = {
     "hybrid_k_8": {"knob": "lookup k", "value": 8, "law": "hybrid", "material": hybrid(k=8)},
     "hybrid_replay": {"knob": "fallback start", "value": "replay", "law": "hybrid", "material": hybrid(start="replay")},
     "cache": {"knob": "cache only", "value": "", "law": "cache", "material": lookup()},
+    # The state-keyed surrogate on the same generic library: the demo's law.
+    "surrogate": {"knob": "surrogate (tolerance 50 Pa, back after 5)", "value": "", "law": "surrogate",
+                  "material": surrogate()},
+    "surrogate_tol_25": {"knob": "surrogate tolerance [Pa]", "value": 25.0, "law": "surrogate",
+                         "material": surrogate(tolerance_pa=25.0)},
+    "surrogate_tol_100": {"knob": "surrogate tolerance [Pa]", "value": 100.0, "law": "surrogate",
+                          "material": surrogate(tolerance_pa=100.0)},
     # A library of this scene's own states: the second run of a scene (a re-run, a parameter study).
     # `enriching` builds it (hybrid on the bare template: every point live from its first step, the
     # live law to round-off); the runs after it look up in it.
@@ -58,10 +71,11 @@ FULL = {
     "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
     "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
 }
-# The CI smoke test: the reference, the noise floor, two variants and a run on the scene's own library.
-SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, "q_sigma_0.5", "hybrid", "enriching", "hybrid_enriched")}
-REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "q_t_0.2", "q_sigma_0.5", "hybrid", "hybrid_tol_3",
-                                         "hybrid_tol_10", "cache")}
+# The CI smoke test: the reference, the noise floor, three variants and a run on the scene's own library.
+SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, "q_sigma_0.5", "hybrid", "surrogate", "enriching",
+                                       "hybrid_enriched")}
+REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "surrogate", "surrogate_tol_25", "surrogate_tol_100",
+                                         "q_t_0.2", "hybrid", "hybrid_tol_10", "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "hybrid", "enriching", "hybrid_enriched",
                                           "cache_enriched")}
 
