@@ -7,6 +7,7 @@ import csv
 import json
 import math
 import shutil
+import sqlite3
 import xml.etree.ElementTree as ET
 
 from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run, run_rigid_translation
@@ -87,13 +88,13 @@ class AccuracyVsTimeTest(WorkflowTest):
 
     def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
-             "--variants", "creeping", "--threads", "1", "--skip",
+             "--variants", "creeping", "--spheres", "64", "--threads", "1", "--skip",
              "other_seed,hybrid_enriched_coarse,cache_enriched_coarse,hybrid_enriched_tol_1,hybrid_enriched,cache_enriched"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
         self.assertEqual(sorted(rows), ["enriching", "hybrid_enriched_skip", "live"])
         self.assertTrue(all(r["failed"] == "" for r in rows.values()))
-        # The set's own cell is the template, and no generic path was sampled.
+        # The set's own cell, prepared with the spheres asked for, is the template, and no generic path was sampled.
         weak = json.loads((WORKFLOWS / "accuracy_vs_time" / "cell_weak_snow_125.json").read_text())
         library = self.assert_json_fields(self.out / "study.json", ["library_cost"])
         self.assertGreater(library["library_cost"]["cpu_s"], 0)
@@ -101,6 +102,8 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertEqual(info["counts"]["paths"], 0)
         self.assertEqual(info["counts"]["templates"], 1)
         self.assertEqual(info["material"]["bond"]["tensile_strength"], weak["material"]["bond"]["tensile_strength"])
+        with sqlite3.connect(self.out / "lib" / "catalogue.sqlite") as catalogue:
+            self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(64,)])
         scene = json.loads((self.out / "scenes" / "hybrid_enriched_skip.json").read_text())
         material = scene["materials"][0]
         self.assertEqual(material["law"], "hybrid")

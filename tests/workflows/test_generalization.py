@@ -1,8 +1,9 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
 column as the one held-out scene, its four runs, summary.json with the per-scene fields, the table and
-the figure; and the live reference is deterministic: its scene run again gives no error at all."""
+the figure, every template prepared with the spheres asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
 import math
+import sqlite3
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -11,8 +12,13 @@ from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflo
 
 class GeneralizationTest(WorkflowTest):
     def test_smoke_benchmark(self):
-        run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1"])
-        summary = self.assert_json_fields(self.out / "summary.json", ["paths", "end_s", "libraries_cpu_s", "scenes"])
+        run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1",
+             "--spheres", "64"])
+        summary = self.assert_json_fields(self.out / "summary.json", ["paths", "spheres", "end_s", "libraries_cpu_s", "scenes"])
+        self.assertEqual(summary["spheres"], 64)
+        for library in ("lib_bond_1", "lib_bond_1_seed"):
+            with sqlite3.connect(self.out / library / "catalogue.sqlite") as catalogue:
+                self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(64,)])
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
 
-  study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--end T] [--gate T]
+  study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--end T] [--gate T]
            [--threads N] [--build DIR] [--smoke]
 
 The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
@@ -10,8 +10,9 @@ test scene is in it, and no run writes to it (the hybrid law runs with enrich of
 learns in memory only), so the runs cannot learn from one another.
 Held-out scenes: the demo's cohesive column (workflows/demo/column.json, 0.4 m wide) at height/width
 `--aspects` and with the demo cell's bonds (tension and shear strength) times each of `--bonds`; each
-bond strength is its own template and library. The gate opens at `--gate` and the scene ends at
-`--end`.
+bond strength is its own template and library; `--spheres N` prepares every template with N spheres
+(the demo cell has 125; 250 is its column's representative cell, workflows/convergence). The gate
+opens at `--gate` and the scene ends at `--end`.
 Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
 seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
 `surrogate` (the state key, its material keys from surrogate.json beside this script).
@@ -48,6 +49,8 @@ def cell_file(args, bond, seed_offset):
     for key in ("tensile_strength", "shear_strength"):
         cell["material"]["bond"][key] *= bond
     cell["preparation"]["seed"] += seed_offset
+    if args.spheres:
+        cell["preparation"]["spheres"] = args.spheres
     out = args.out / "cells" / f"bond_{bond:g}{'_seed' if seed_offset else ''}.json"
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(cell, indent=2) + "\n")
@@ -152,6 +155,7 @@ def main():
     parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
     parser.add_argument("--aspects", default="0.5,1,2")
     parser.add_argument("--bonds", default="1,1.5")
+    parser.add_argument("--spheres", type=int, help="spheres per cell instead of the demo cell's 125")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
     parser.add_argument("--threads", type=int, default=environment.threads())
@@ -165,7 +169,8 @@ def main():
         aspects, bonds, args.end, args.gate = [1.0], [1.0], 0.01, 0.002
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
-    summary = {"paths": str(args.paths), "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
+    summary = {"paths": str(args.paths), "spheres": args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"],
+               "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
                "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
