@@ -1,11 +1,13 @@
 """The shared helpers of workflows/plotting against known answers: the VTU/PVD reader on a rigid
 translation run by mpm_solver, the flow measures and errors on hand-made snapshots, the tables and
-the PNG check."""
+the PNG check; a study's run of a scene that mpm_solver rejects."""
+
+import json
 
 import numpy as np
 
-from workflow_test_util import WorkflowTest, run_rigid_translation
-from plotting import flow, png, spreading, tables, vtu
+from workflow_test_util import BUILD, TINY_SCENE, WorkflowTest, run_rigid_translation
+from plotting import flow, png, run_compare, spreading, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
 
@@ -36,6 +38,17 @@ class ReaderTest(WorkflowTest):
         bad.write_bytes(b"<VTKFile/>")
         with self.assertRaisesRegex(ValueError, "points_000000.vtu"):
             vtu.read_vtu(bad)
+
+
+class StudyRunTest(WorkflowTest):
+    def test_a_rejected_scene_is_an_error_naming_it_and_is_not_recorded_as_a_result(self):
+        scene = json.loads(TINY_SCENE.read_text())
+        scene["time"]["finish"] = 1.0
+        bad = self.out / "bad_scene.json"
+        bad.write_text(json.dumps(scene))
+        with self.assertRaisesRegex(RuntimeError, r"bad_scene\.json: mpm_solver stopped before its first output: .*finish"):
+            run_compare.timed_scene_run(BUILD, bad, self.out / "run", 1)
+        self.assertFalse((self.out / "run" / "study_run.json").exists())
 
 
 class FlowTest(WorkflowTest):
