@@ -44,7 +44,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertGreater(sum(tables.read_csv(self.out / "runs" / "surrogate" / "series.csv")["hits"]), 0)
         self.assertGreater(float(rows["surrogate"]["stress_rel_l2"]), 0.0)
         # The noise floor: the live law on a cell packed with another seed is another run, not a copy.
-        demo_cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_125.json").read_text())
+        demo_cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_250.json").read_text())
         other_cell = json.loads((self.out / "cells" / "other_seed.json").read_text())
         self.assertNotEqual(other_cell["preparation"].pop("seed"), demo_cell["preparation"].pop("seed"))
         self.assertEqual(other_cell, demo_cell)

@@ -36,7 +36,7 @@ from plotting.timing import timed  # noqa: E402
 import variants  # noqa: E402
 
 WORKFLOWS = HERE.parent
-DEMO_INPUTS = {"scene": WORKFLOWS / "demo" / "column.json", "cell": WORKFLOWS / "demo" / "cell_soft_snow_125.json",
+DEMO_INPUTS = {"scene": WORKFLOWS / "demo" / "column.json", "cell": WORKFLOWS / "demo" / "cell_soft_snow_250.json",
                "paths": WORKFLOWS / "demo" / "paths.json"}
 
 

@@ -22,8 +22,8 @@ def hybrid(start="warm_start", return_after=10, **lookup_keys):
 
 
 def surrogate(tolerance_pa=50.0, return_after=5):
-    """The state-keyed surrogate as the demo runs it (tolerance 50 Pa, back after 5 steps within it); a
-    base scene's hybrid fallback start, which the surrogate does not take, is removed (null)."""
+    """The state-keyed surrogate, back after 5 steps within its tolerance as in the demo; a base scene's
+    hybrid fallback start, which the surrogate does not take, is removed (null)."""
     return {"tolerance": tolerance_pa, "fallback": {"start": None, "return_after": return_after}}
 
 
@@ -51,7 +51,7 @@ FULL = {
     "hybrid_k_8": {"knob": "lookup k", "value": 8, "law": "hybrid", "material": hybrid(k=8)},
     "hybrid_replay": {"knob": "fallback start", "value": "replay", "law": "hybrid", "material": hybrid(start="replay")},
     "cache": {"knob": "cache only", "value": "", "law": "cache", "material": lookup()},
-    # The state-keyed surrogate on the same generic library: the demo's law.
+    # The state-keyed surrogate on the same generic library: the demo's law (the demo runs 25 Pa).
     "surrogate": {"knob": "surrogate (tolerance 50 Pa, back after 5)", "value": "", "law": "surrogate",
                   "material": surrogate()},
     "surrogate_tol_25": {"knob": "surrogate tolerance [Pa]", "value": 25.0, "law": "surrogate",

@@ -17,7 +17,7 @@ seconds() { date +%s.%N; }  # timestamps for the report
 start=$(seconds)
 
 echo "== cell library $out/lib"
-"$build/dem_sampler/dem_sampler" prepare "$here/cell_soft_snow_125.json" --library "$out/lib"
+"$build/dem_sampler/dem_sampler" prepare "$here/cell_soft_snow_250.json" --library "$out/lib"
 "$build/dem_sampler/dem_sampler" sample "$paths" --library "$out/lib" --threads "$threads" 2> "$out/sample.log"
 library_done=$(seconds)
 
