@@ -1,6 +1,6 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
 column as the one held-out scene, its four runs, summary.json with the per-scene fields, the table and
-the figure, every template prepared with the spheres asked for; and the live reference is deterministic: its scene run again gives no error at all."""
+the figure, every template prepared with the spheres asked for and the surrogate at the tolerance asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
 import math
 import sqlite3
@@ -13,9 +13,12 @@ from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflo
 class GeneralizationTest(WorkflowTest):
     def test_smoke_benchmark(self):
         run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1",
-             "--spheres", "64"])
+             "--spheres", "64", "--tolerance", "40"])
         summary = self.assert_json_fields(self.out / "summary.json", ["paths", "spheres", "end_s", "libraries_cpu_s", "scenes"])
         self.assertEqual(summary["spheres"], 64)
+        self.assertEqual(summary["surrogate"]["tolerance"], 40)
+        scene_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate.json").read_text())["materials"][0]
+        self.assertEqual((scene_material["law"], scene_material["tolerance"]), ("surrogate", 40))
         for library in ("lib_bond_1", "lib_bond_1_seed"):
             with sqlite3.connect(self.out / library / "catalogue.sqlite") as catalogue:
                 self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(64,)])

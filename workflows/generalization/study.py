@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
 
-  study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--end T] [--gate T]
-           [--threads N] [--build DIR] [--smoke]
+  study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--tolerance PA]
+           [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
 
 The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
 default workflows/demo/paths.json; workflows/precompute/states.json adds state probes): no run of any
@@ -15,7 +15,8 @@ bond strength is its own template and library; `--spheres N` prepares every temp
 opens at `--gate` and the scene ends at `--end`.
 Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
 seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
-`surrogate` (the state key, its material keys from surrogate.json beside this script).
+`surrogate` (the state key, its material keys from surrogate.json beside this script; `--tolerance`
+replaces its tolerance).
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
@@ -87,8 +88,15 @@ def column_settings(base, aspect, args):
     return settings
 
 
+def surrogate_material(args):
+    material = json.loads((HERE / "surrogate.json").read_text())
+    if args.tolerance is not None:
+        material["tolerance"] = args.tolerance
+    return material
+
+
 def run_scene(name, settings, libs, build, args):
-    surrogate = json.loads((HERE / "surrogate.json").read_text())
+    surrogate = surrogate_material(args)
     specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate)}
     # The scene with live cells and no key of any other law, so that each run's keys are its own
@@ -156,6 +164,7 @@ def main():
     parser.add_argument("--aspects", default="0.5,1,2")
     parser.add_argument("--bonds", default="1,1.5")
     parser.add_argument("--spheres", type=int, help="spheres per cell instead of the demo cell's 125")
+    parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of surrogate.json's")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
     parser.add_argument("--threads", type=int, default=environment.threads())
@@ -169,8 +178,8 @@ def main():
         aspects, bonds, args.end, args.gate = [1.0], [1.0], 0.01, 0.002
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
-    summary = {"paths": str(args.paths), "spheres": args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"],
-               "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
+    summary = {"paths": str(args.paths), "surrogate": surrogate_material(args),
+               "spheres": args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"], "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
                "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
