@@ -11,7 +11,8 @@ learns in memory only), so the runs cannot learn from one another.
 Held-out scenes: the demo's cohesive column (workflows/demo/column.json, 0.4 m wide) at height/width
 `--aspects` and with the demo cell's bonds (tension and shear strength) times each of `--bonds`; each
 bond strength is its own template and library; `--spheres N` prepares every template with N spheres
-(the demo cell has 125; 250 is its column's representative cell, workflows/convergence). The gate
+instead of the 125 of CELL (the demo's cell until stop 38; 250, the demo's now, is its column's
+representative cell, workflows/convergence). The gate
 opens at `--gate` and the scene ends at `--end`.
 Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
 seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
@@ -163,7 +164,7 @@ def main():
     parser.add_argument("--paths", type=Path, default=WORKFLOWS / "demo" / "paths.json")
     parser.add_argument("--aspects", default="0.5,1,2")
     parser.add_argument("--bonds", default="1,1.5")
-    parser.add_argument("--spheres", type=int, help="spheres per cell instead of the demo cell's 125")
+    parser.add_argument("--spheres", type=int, help="spheres per cell instead of the 125 of CELL")
     parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of surrogate.json's")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
@@ -178,9 +179,9 @@ def main():
         aspects, bonds, args.end, args.gate = [1.0], [1.0], 0.01, 0.002
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
-    summary = {"paths": str(args.paths), "surrogate": surrogate_material(args),
-               "spheres": args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"], "end_s": args.end, "gate_s": args.gate, "threads": args.threads,
-               "libraries_cpu_s": {}, "scenes": {}}
+    spheres = args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"]
+    summary = {"paths": str(args.paths), "surrogate": surrogate_material(args), "spheres": spheres,
+               "end_s": args.end, "gate_s": args.gate, "threads": args.threads, "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
         summary["libraries_cpu_s"][f"{bond:g}"] = libs["cpu_s"]
