@@ -7,7 +7,6 @@ import csv
 import json
 import math
 import shutil
-import sqlite3
 import xml.etree.ElementTree as ET
 
 from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run, run_rigid_translation
@@ -102,8 +101,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertEqual(info["counts"]["paths"], 0)
         self.assertEqual(info["counts"]["templates"], 1)
         self.assertEqual(info["material"]["bond"]["tensile_strength"], weak["material"]["bond"]["tensile_strength"])
-        with sqlite3.connect(self.out / "lib" / "catalogue.sqlite") as catalogue:
-            self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(64,)])
+        self.assert_template_spheres(self.out / "lib", 64)
         scene = json.loads((self.out / "scenes" / "hybrid_enriched_skip.json").read_text())
         material = scene["materials"][0]
         self.assertEqual(material["law"], "hybrid")

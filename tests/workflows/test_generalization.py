@@ -3,7 +3,6 @@ column as the one held-out scene, its four runs, summary.json with the per-scene
 the figure, every template prepared with the spheres asked for and the surrogate at the tolerance asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
 import math
-import sqlite3
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -20,8 +19,7 @@ class GeneralizationTest(WorkflowTest):
         scene_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate.json").read_text())["materials"][0]
         self.assertEqual((scene_material["law"], scene_material["tolerance"]), ("surrogate", 40))
         for library in ("lib_bond_1", "lib_bond_1_seed"):
-            with sqlite3.connect(self.out / library / "catalogue.sqlite") as catalogue:
-                self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(64,)])
+            self.assert_template_spheres(self.out / library, 64)
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):

@@ -4,6 +4,7 @@ decodes, a JSON with its fields)."""
 import json
 import os
 import subprocess
+import sqlite3
 import sys
 import tempfile
 import unittest
@@ -50,6 +51,14 @@ class WorkflowTest(unittest.TestCase):
 
     def tearDown(self):
         self.tmp.cleanup()
+
+    def assert_template_spheres(self, library, spheres):
+        """Every template in the library's catalogue has `spheres` spheres."""
+        catalogue = sqlite3.connect(Path(library) / "catalogue.sqlite")
+        try:
+            self.assertEqual(catalogue.execute("SELECT spheres FROM templates").fetchall(), [(spheres,)], library)
+        finally:
+            catalogue.close()
 
     def assert_png(self, file, min_size=(200, 150)):
         width, height = png.png_size(file)

@@ -40,10 +40,10 @@ DEMO_INPUTS = {"scene": WORKFLOWS / "demo" / "column.json", "cell": WORKFLOWS / 
                "paths": WORKFLOWS / "demo" / "paths.json"}
 
 
-def with_spheres(cell_file, spheres, out):
-    """`out`: the cell of `cell_file` prepared with `spheres` spheres."""
+def with_preparation(cell_file, preparation, out):
+    """`out`: the cell of `cell_file` with the keys of `preparation` replaced in its preparation."""
     cell = json.loads(cell_file.read_text())
-    cell["preparation"]["spheres"] = spheres
+    cell["preparation"].update(preparation)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(cell, indent=2) + "\n")
     return out
@@ -71,11 +71,7 @@ def prepare_enriched_library(args, build):
 def write_scene(name, spec, library, build, args):
     material = dict(spec.get("material", {}))
     if "preparation" in spec:
-        cell = json.loads(args.cell.read_text())
-        cell["preparation"].update(spec["preparation"])
-        cell_file = args.out / "cells" / f"{name}.json"
-        cell_file.parent.mkdir(parents=True, exist_ok=True)
-        cell_file.write_text(json.dumps(cell, indent=2) + "\n")
+        cell_file = with_preparation(args.cell, spec["preparation"], args.out / "cells" / f"{name}.json")
         material["cell"] = str(cell_file.resolve())
     settings = dict(spec.get("settings", {}))
     if "grid_factor" in spec:
@@ -136,7 +132,7 @@ def main():
         parser.error("--skip: the runs on the enriched library need the run enriching, which builds it")
     args.out.mkdir(parents=True, exist_ok=True)
     if args.spheres:
-        args.cell = with_spheres(args.cell, args.spheres, args.out / "cells" / "template.json")
+        args.cell = with_preparation(args.cell, {"spheres": args.spheres}, args.out / "cells" / "template.json")
     build = args.build.resolve()
     library, library_cost = build_library(args, build)
     libraries = {"generic": library}

@@ -96,8 +96,7 @@ def surrogate_material(args):
     return material
 
 
-def run_scene(name, settings, libs, build, args):
-    surrogate = surrogate_material(args)
+def run_scene(name, settings, libs, surrogate, build, args):
     specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate)}
     # The scene with live cells and no key of any other law, so that each run's keys are its own
@@ -180,14 +179,15 @@ def main():
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
     spheres = args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"]
-    summary = {"paths": str(args.paths), "surrogate": surrogate_material(args), "spheres": spheres,
+    surrogate = surrogate_material(args)
+    summary = {"paths": str(args.paths), "surrogate": surrogate, "spheres": spheres,
                "end_s": args.end, "gate_s": args.gate, "threads": args.threads, "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
         summary["libraries_cpu_s"][f"{bond:g}"] = libs["cpu_s"]
         for aspect in aspects:
             name = f"aspect_{aspect:g}_bond_{bond:g}"
-            costs = run_scene(name, column_settings(args.scene, aspect, args), libs, build, args)
+            costs = run_scene(name, column_settings(args.scene, aspect, args), libs, surrogate, build, args)
             summary["scenes"][name] = measure(name, costs, args)
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     rows = [{"scene": name, "run": run, **{k: v for k, v in s["runs"][run].items()}}
