@@ -28,6 +28,19 @@ double lode_angle(const dem::Mat3& s) {
 
 }  // namespace
 
+double pressure_feature(double pressure, const FeatureConstants& constants) {
+  const double floor = std::log(constants.p_floor / constants.p_ref);
+  if (pressure >= constants.p_floor) return std::log(pressure / constants.p_ref);
+  // Below the floor the normalization no longer tells pressures apart (p_eff = p_floor), so the key
+  // must: a bonded cell near its tensile strength answers unlike a cell barely compressed. The mirror
+  // of the logarithm keeps the feature monotone and C¹ through the floor and logarithmic in tension.
+  return floor - std::log(2 - pressure / constants.p_floor);
+}
+
+double effective_pressure_of_feature(double feature, const FeatureConstants& constants) {
+  return std::max(constants.p_ref * std::exp(feature), constants.p_floor);
+}
+
 std::optional<double> in_plane_principal_angle(const dem::Mat3& t) {
   const double a = t(0, 0) - t(1, 1), b = t(0, 1) + t(1, 0);
   // Below this relative size the in-plane deviator is round-off of an in-plane isotropic tensor.
@@ -51,7 +64,7 @@ StateFeatures state_features(const PointState& state, const dem::Mat3& L, const 
   const double rate = D.norm();
 
   StateFeatures f;
-  f.log_pressure = std::log(p / constants.p_ref);
+  f.log_pressure = pressure_feature(-sigma.trace() / 3, constants);
   f.eta = q / p;
   f.lode = lode_angle(s);
   f.solid_fraction = state.solid_fraction;

@@ -1,8 +1,10 @@
 // The frame-free key of the state-keyed surrogate (issue 13, DESIGN.md "State key"): a point's
 // state (σ, φ, Z, D) and its loading D = sym L, seen relative to each other.
 //
-//   ln(p/p_ref)      p = max(−tr σ/3, p_floor)                     (point_state.hpp)
-//   η = q/p          q = √(3/2 s:s), s = dev σ
+//   ln(p/p_ref)      for p = −tr σ/3 ≥ p_floor; below it (loose or tensile cells), where the
+//                    normalizing pressure stays p_floor (point_state.hpp), the mirrored logarithm
+//                    ln(p_floor/p_ref) − ln(2 − p/p_floor): monotone, C¹, tension kept apart
+//   η = q/p          q = √(3/2 s:s), s = dev σ, p = max(−tr σ/3, p_floor)
 //   Lode angle θ     cos 3θ = (3√3/2) J₃ / J₂^{3/2} of s, θ ∈ [0, π/3]: θ = 0 when one principal
 //                    stress is less compressive than the two others alike (triaxial extension),
 //                    θ = π/3 when one is more compressive (triaxial compression); θ := 0 when q = 0
@@ -33,7 +35,7 @@
 namespace grainbank::surrogate {
 
 struct StateFeatures {
-  double log_pressure = 0;  // ln(p/p_ref)
+  double log_pressure = 0;  // ln(p/p_ref), mirrored below p_floor (pressure_feature)
   double eta = 0;           // q/p
   double lode = 0;          // θ [rad]
   double solid_fraction = 0, coordination = 0, damage = 0;
@@ -43,6 +45,11 @@ struct StateFeatures {
 };
 
 StateFeatures state_features(const PointState& state, const dem::Mat3& L, const FeatureConstants& constants);
+
+// The pressure feature of −tr σ/3 = `pressure`, and the normalizing pressure max(p, p_floor) of a
+// feature value (the inverse above the floor).
+double pressure_feature(double pressure, const FeatureConstants& constants);
+double effective_pressure_of_feature(double feature, const FeatureConstants& constants);
 
 // ln(p/p_ref), η cos 3θ, η sin 3θ, φ, Z, D, sin ψ, cos ψ cos 2β, cos ψ sin 2β, ln max(I, 1e-8).
 inline constexpr std::size_t kFeatureCount = 10;

@@ -92,8 +92,7 @@ void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   const std::size_t first = tree_->samples.size();
   double stiffest = largest_stiffness_.load(std::memory_order_relaxed);
   for (const Sample& s : samples) {
-    // features[0] = ln(p/p_ref), p the effective pressure of the normalization (state_features.hpp).
-    stiffest = std::max(stiffest, stress_norm(s.answer) * constants_.p_ref * std::exp(s.features[0]));
+    stiffest = std::max(stiffest, stress_norm(s.answer) * effective_pressure_of_feature(s.features[0], constants_));
     FeatureVector z;
     for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = s.features[j] / scales_[j];
     tree_->samples.push_back(s);

@@ -18,7 +18,9 @@ namespace grainbank::mpm::io {
 // 2: points of cache/hybrid laws also carry their steps inside the tolerance and replay history.
 // 3: a point's pending increment has its elapsed time; increments carry L; cache/hybrid points no
 //    longer carry an F of their own; points carry APIC's affine velocity B_p.
-inline constexpr const char* kRestartFormat = "grainbank-restart-3";
+// 4: the surrogate's learned samples carry the pressure feature that tells tension apart
+//    (state_features.hpp); keys written before meant another thing below p_floor.
+inline constexpr const char* kRestartFormat = "grainbank-restart-4";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
 

@@ -82,12 +82,36 @@ TEST(SurrogateFeatures, InvariantUnderASuperposedRotation) {
   }
 }
 
+// Above p_floor the pressure feature is ln(p/p_ref). Below it, where answers are all normalized by
+// p_floor, it keeps falling, so a cell in tension has another key than one barely compressed: strictly
+// monotone, continuous with a continuous slope (1/p_floor) at the floor, and finite in any tension.
+TEST(SurrogateFeatures, ThePressureFeatureTellsTensionApart) {
+  const double floor = kConstants.p_floor;
+  EXPECT_NEAR(pressure_feature(250, kConstants), std::log(250 / kConstants.p_ref), 1e-12);
+  EXPECT_NEAR(pressure_feature(floor, kConstants), std::log(floor / kConstants.p_ref), 1e-12);
+  const double h = 1e-6 * floor;
+  const double below = (pressure_feature(floor, kConstants) - pressure_feature(floor - h, kConstants)) / h;
+  const double above = (pressure_feature(floor + h, kConstants) - pressure_feature(floor, kConstants)) / h;
+  EXPECT_NEAR(below * floor, 1, 1e-5);
+  EXPECT_NEAR(above * floor, 1, 1e-5);
+  double previous = pressure_feature(2 * floor, kConstants);
+  for (double p = 2 * floor; p > -1e6; p -= floor) {
+    const double f = pressure_feature(p - floor, kConstants);
+    EXPECT_LT(f, previous) << "at p = " << p - floor;
+    EXPECT_TRUE(std::isfinite(f));
+    previous = f;
+  }
+  for (const double p : {-1e3, 0.0, 5.0, 500.0})
+    EXPECT_NEAR(effective_pressure_of_feature(pressure_feature(p, kConstants), kConstants), std::max(p, floor),
+                1e-9 * std::max(p, floor));
+}
+
 TEST(SurrogateFeatures, TensionAndRestStayFinite) {
   dem::Mat3 L = dem::Mat3::Zero();
   L(0, 1) = 3;
   const PointState tensile{dem::Vec3(100, 50, 0).asDiagonal().toDenseMatrix()};
   const StateFeatures f = state_features(tensile, L, kConstants);
-  EXPECT_NEAR(f.log_pressure, std::log(kConstants.p_floor / kConstants.p_ref), 1e-12);
+  EXPECT_LT(f.log_pressure, std::log(kConstants.p_floor / kConstants.p_ref));
   for (const double v : feature_vector(f)) EXPECT_TRUE(std::isfinite(v));
   const StateFeatures rest = state_features({-500 * dem::Mat3::Identity()}, dem::Mat3::Zero(), kConstants);
   EXPECT_EQ(rest.psi, 0);
