@@ -121,7 +121,8 @@ std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& default
   p.record_interval = *d.record_interval;
   p.snapshot_interval = d.snapshot_interval;
   p.substepping = d.substepping;
-  constexpr const char* kBases = "a non-empty array of \"compression\", \"shear\" or \"extension\"";
+  constexpr const char* kBases =
+      "a non-empty array of \"compression\", \"shear\", \"extension\" or \"oedometric\"";
   const JsonNode bases = entry.at("bases", kBases);
   const std::size_t n = bases.array_size(kBases);
   if (n == 0) bases.fail_expected(kBases);
@@ -130,7 +131,7 @@ std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& default
     try {
       p.bases.push_back(probe_base_from(item.string()));
     } catch (const std::invalid_argument&) {
-      item.fail_expected("\"compression\", \"shear\" or \"extension\"");
+      item.fail_expected("\"compression\", \"shear\", \"extension\" or \"oedometric\"");
     }
   }
   constexpr double kDegree = std::numbers::pi / 180;

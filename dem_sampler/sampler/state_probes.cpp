@@ -41,13 +41,16 @@ dem::Mat3 base_gradient(ProbeBase base, double rate) {
     case ProbeBase::compression: L(0, 0) = L(1, 1) = -kRootHalf * rate; break;
     case ProbeBase::extension: L(0, 0) = L(1, 1) = kRootHalf * rate; break;
     case ProbeBase::shear: L(0, 1) = std::numbers::sqrt2 * rate; break;
+    case ProbeBase::oedometric: L(1, 1) = -rate; break;
   }
   return L;
 }
 
 // The least compressive in-plane principal stress axis the base leaves: simple shear's stretching
-// axis; none for the in-plane isotropic bases (then every β is the same probe, see the header).
+// axis, x for oedometric compression along y; none for the in-plane isotropic bases (then every β is
+// the same probe, see the header).
 double base_axis(ProbeBase base) { return base == ProbeBase::shear ? std::numbers::pi / 4 : 0.0; }
+bool has_stress_axes(ProbeBase base) { return base == ProbeBase::shear || base == ProbeBase::oedometric; }
 
 }  // namespace
 
@@ -74,6 +77,7 @@ ProbeBase probe_base_from(const std::string& name) {
   if (name == "compression") return ProbeBase::compression;
   if (name == "shear") return ProbeBase::shear;
   if (name == "extension") return ProbeBase::extension;
+  if (name == "oedometric") return ProbeBase::oedometric;
   throw std::invalid_argument("unknown probe base \"" + name + "\"");
 }
 
@@ -81,7 +85,7 @@ std::vector<PathPlan> probe_paths(const ProbeSpec& spec) {
   check(spec);
   std::vector<PathPlan> plans;
   for (ProbeBase base : spec.bases) {
-    const std::vector<double> betas = base == ProbeBase::shear ? spec.beta : std::vector<double>{0.0};
+    const std::vector<double> betas = has_stress_axes(base) ? spec.beta : std::vector<double>{0.0};
     for (double depth : spec.depths) {
       for (double rate : spec.rates) {
         PathPlan plan;

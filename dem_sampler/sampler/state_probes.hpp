@@ -1,12 +1,14 @@
 // Sampling states, not paths (issue 13, item 5): paths that bring the template to states along
-// compression, shear and extension (bond-breaking) and then probe each state in a star of loading
+// compression, shear, extension (bond-breaking) and oedometric compression (the K0 state of any
+// deposit under its own weight) and then probe each state in a star of loading
 // directions, so that a library covers the material's stress space, unloading included, and the
 // state-keyed surrogate (database/surrogate) finds neighbours in every direction a material point
 // may load a state.
 //
 // One path per (base, depth, probe rate):
 // 1. the base segment: in-plane isotropic compression D = −r I₂/√2, simple shear L = √2 r [[0,1],[0,0]]
-//    (|D| = r), or in-plane isotropic extension D = +r I₂/√2, at |D| = base_rate for depth/base_rate;
+//    (|D| = r), in-plane isotropic extension D = +r I₂/√2, or oedometric compression along y
+//    D_yy = −r, at |D| = base_rate for depth/base_rate;
 // 2. for each probe direction, `probe_strain` of loading at |D| = rate, then the same strain back
 //    (−D, the unloading response), in the order ψ outer, β inner.
 // A probe direction is D = a I₂ + b R(θ) diag(1, −1) R(θ)ᵀ with plane strain (D_zz = 0), scaled to
@@ -15,7 +17,8 @@
 //      plane strain reaches |ψ| ≤ atan √6 ≈ 67.79° (in-plane isotropic loading) and no further;
 //    β the angle from the base state's in-plane principal stress axis (its least compressive one) to
 //      D's largest stretching axis θ. For the shear base that axis is taken at +45°, the stretching
-//      axis of simple shear (coaxial flow at the critical state: an approximation before it); the
+//      axis of simple shear (coaxial flow at the critical state: an approximation before it), for
+//      the oedometric base x (compressed along y, it is least compressed along x); the
 //      compression and extension bases leave the stress isotropic in the plane, where β is undefined
 //      (the surrogate's key sets β = 0): their probes use β = 0 only, so no probe repeats another.
 // Same spec, same paths, on every machine.
@@ -26,7 +29,7 @@
 
 namespace grainbank::sampler {
 
-enum class ProbeBase { compression, shear, extension };
+enum class ProbeBase { compression, shear, extension, oedometric };
 
 struct ProbeSpec {
   std::vector<ProbeBase> bases;
@@ -50,6 +53,6 @@ dem::Mat3 probe_direction(double psi, double axis_angle, double rate);
 // Throws std::invalid_argument naming the first bad field.
 std::vector<PathPlan> probe_paths(const ProbeSpec& spec);
 
-ProbeBase probe_base_from(const std::string& name);  // "compression" | "shear" | "extension"
+ProbeBase probe_base_from(const std::string& name);  // "compression" | "shear" | "extension" | "oedometric"
 
 }  // namespace grainbank::sampler

@@ -41,7 +41,7 @@ double axis_difference(double a, double b) {
 
 ProbeSpec spec() {
   ProbeSpec s;
-  s.bases = {ProbeBase::compression, ProbeBase::shear, ProbeBase::extension};
+  s.bases = {ProbeBase::compression, ProbeBase::shear, ProbeBase::extension, ProbeBase::oedometric};
   s.depths = {0.01, 0.03};
   s.base_rate = 5;
   s.psi = {-40 * kDegree, 0.0, 30 * kDegree, kMaxPlaneStrainPsi};
@@ -55,11 +55,12 @@ ProbeSpec spec() {
 TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections) {
   const ProbeSpec s = spec();
   const std::vector<PathPlan> plans = probe_paths(s);
-  ASSERT_EQ(plans.size(), 3u * 2u * 2u);
+  ASSERT_EQ(plans.size(), 4u * 2u * 2u);
   std::size_t k = 0;
   for (ProbeBase base : s.bases) {
-    const bool shear = base == ProbeBase::shear;
-    const std::size_t directions = s.psi.size() * (shear ? s.beta.size() : 1);
+    const bool shear = base == ProbeBase::shear, oedometric = base == ProbeBase::oedometric;
+    const bool axes = shear || oedometric;  // the base leaves in-plane stress axes, so every β is a probe
+    const std::size_t directions = s.psi.size() * (axes ? s.beta.size() : 1);
     for (double depth : s.depths) {
       for (double rate : s.rates) {
         const auto& segments = plans[k++].path.segments;
@@ -67,14 +68,19 @@ TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections
         const dem::Mat3 base_D = sym(segments[0].L);
         EXPECT_NEAR(base_D.norm(), s.base_rate, 1e-12);
         EXPECT_NEAR(base_D.norm() * segments[0].duration, depth, 1e-12);
-        EXPECT_NEAR(base_D.trace(), shear ? 0.0 : (base == ProbeBase::compression ? -1 : 1) * std::sqrt(2.0) * s.base_rate,
-                    1e-12);
+        if (oedometric) {
+          EXPECT_EQ(base_D(0, 0), 0) << "no lateral strain";
+          EXPECT_NEAR(base_D(1, 1), -s.base_rate, 1e-12);
+        } else {
+          EXPECT_NEAR(base_D.trace(), shear ? 0.0 : (base == ProbeBase::compression ? -1 : 1) * std::sqrt(2.0) * s.base_rate,
+                      1e-12);
+        }
         if (shear) {
           EXPECT_EQ(segments[0].L(1, 0), 0) << "simple shear, with its spin";
         }
         std::size_t d = 0;
         for (double psi : s.psi) {
-          for (std::size_t b = 0; b < (shear ? s.beta.size() : 1); ++b, ++d) {
+          for (std::size_t b = 0; b < (axes ? s.beta.size() : 1); ++b, ++d) {
             const app::PathSegment& out = segments[1 + 2 * d];
             const app::PathSegment& back = segments[2 + 2 * d];
             EXPECT_EQ(back.L, -out.L);
@@ -83,7 +89,7 @@ TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections
             EXPECT_NEAR(sym(out.L).norm() * out.duration, s.probe_strain, 1e-15);
             EXPECT_NEAR(psi_of(out.L), psi, 1e-9);
             if (std::abs(psi) < kMaxPlaneStrainPsi - 1e-9) {  // at the limit D has no in-plane axes
-              const double axis = (shear ? std::numbers::pi / 4 + s.beta[b] : 0.0);
+              const double axis = shear ? std::numbers::pi / 4 + s.beta[b] : oedometric ? s.beta[b] : 0.0;
               EXPECT_LT(axis_difference(stretching_axis(out.L), axis), 1e-9);
             }
           }
@@ -117,7 +123,8 @@ TEST(StateProbes, AreReadFromPathsFilesWithTheirErrorsNamed) {
   EXPECT_NE(steep.find("bad.json: /probes/0/psi/0"), std::string::npos) << steep;
   EXPECT_NE(steep.find("67.79"), std::string::npos) << steep;
   const std::string base = error_of(R"({"bases": ["twist"], "psi": [0], )" + good + "}");
-  EXPECT_NE(base.find("/probes/0/bases/0: expected \"compression\", \"shear\" or \"extension\""), std::string::npos)
+  EXPECT_NE(base.find("/probes/0/bases/0: expected \"compression\", \"shear\", \"extension\" or \"oedometric\""),
+            std::string::npos)
       << base;
   const std::string unknown = error_of(R"({"bases": ["shear"], "psi": [0], "angle": 3, )" + good + "}");
   EXPECT_NE(unknown.find("/probes/0/angle: unknown key"), std::string::npos) << unknown;
