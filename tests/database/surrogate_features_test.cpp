@@ -95,9 +95,10 @@ TEST(SurrogateFeatures, ThePressureFeatureTellsTensionApart) {
   EXPECT_NEAR(below * floor, 1, 1e-5);
   EXPECT_NEAR(above * floor, 1, 1e-5);
   double previous = pressure_feature(2 * floor, kConstants);
-  for (double p = 2 * floor; p > -1e6; p -= floor) {
-    const double f = pressure_feature(p - floor, kConstants);
-    EXPECT_LT(f, previous) << "at p = " << p - floor;
+  for (double below_floor = 0.5; below_floor < 1e6; below_floor *= 2) {  // p from 0.5 p_floor to −1e6 p_floor
+    const double p = floor * (1 - below_floor);
+    const double f = pressure_feature(p, kConstants);
+    EXPECT_LT(f, previous) << "at p = " << p;
     EXPECT_TRUE(std::isfinite(f));
     previous = f;
   }
