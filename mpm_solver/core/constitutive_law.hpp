@@ -55,6 +55,12 @@ class ConstitutiveLaw {
   virtual void save_state(LawStateWriter& /*out*/) const {}
   virtual void restore_state(LawStateReader& /*in*/) {}
 
+  // Ends a step: called once after every point of the step was updated, outside any parallel region.
+  // A law whose points learn from each other publishes here what they learned in the step, in slot
+  // order, so that no point's update depends on which other points a thread reached first: the run
+  // is the same on any number of threads.
+  virtual void end_step() {}
+
   // Ends the run (Solver::finish): writes what the law still holds (e.g. live responses for the
   // library). Called once, after the last step; throws with context when that fails.
   virtual void finish() {}

@@ -272,6 +272,7 @@ void Solver::update_stresses(double dt) {
     skipped += distribution_.share_updates(points_, laws_, skipped_point);
   }
   failure.rethrow_if_any();
+  for (const std::unique_ptr<ConstitutiveLaw>& law : laws_) law->end_step();
   skipped_updates_ += skipped;
   point_updates_ += n;
 }

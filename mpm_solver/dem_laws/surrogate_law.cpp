@@ -147,9 +147,18 @@ void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncre
   ++p.counters.live_updates;
   // A rest or a pure spin has no rate per |D| (rate_answer.hpp): nothing to learn.
   if (increment.dt > 0 && (L + L.transpose()).norm() > 0)
-    learn({surrogate::make_sample(before, p.state, L, increment.dt, index_->constants(),
-                                  {-static_cast<std::int64_t>(slot) - 1,
-                                   static_cast<std::int64_t>(p.history.size()) - 1})});
+    p.learned_this_step.push_back(surrogate::make_sample(
+        before, p.state, L, increment.dt, index_->constants(),
+        {-static_cast<std::int64_t>(slot) - 1, static_cast<std::int64_t>(p.history.size()) - 1}));
+}
+
+void SurrogateLaw::end_step() {
+  std::vector<surrogate::Sample> samples;
+  for (Point& p : points_) {
+    samples.insert(samples.end(), p.learned_this_step.begin(), p.learned_this_step.end());
+    p.learned_this_step.clear();
+  }
+  if (!samples.empty()) learn(samples);
 }
 
 void SurrogateLaw::learn(const std::vector<surrogate::Sample>& samples) {

@@ -22,8 +22,10 @@
 //   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.
 // - Every live step's response (the cell's state before and after, under the increment's L) enters
-//   the index at once as a new sample (issue 13, item 4), so later queries near it may hit. Its
-//   origin is path −(slot + 1), record = the index of the increment in the point's history.
+//   the index as a new sample at the end of its step (end_step, issue 13, item 4), so the next
+//   step's queries near it may hit. Its origin is path −(slot + 1), record = the index of the
+//   increment in the point's history. The step's samples enter in slot order: a run is the same on
+//   any number of threads.
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live). It keeps that cell: its next state warm start
@@ -33,9 +35,6 @@
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
 //   cell and kept cell, and the samples learned so far: a restart continues bit for bit.
-// Limitation: with several threads, whether a point sees a sample inserted by another point during
-// the same MPM step depends on timing (one thread, or points that only learn from themselves, are
-// deterministic).
 #pragma once
 #include <atomic>
 #include <limits>
@@ -101,6 +100,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   const surrogate::PointState& state(std::size_t slot) const { return points_[slot].state; }
   // Samples inserted from live responses so far.
   std::size_t learned() const;
+  // Inserts the samples the step's live points learned, in slot order.
+  void end_step() override;
 
  private:
   struct Point {
@@ -115,6 +116,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     int steps_inside = 0;                     // consecutive live steps within the tolerance
     double spent = 0;                         // [Pa] estimated errors summed since the last replay
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
+    std::vector<surrogate::Sample> learned_this_step;  // inserted by end_step
     CouplingCounters counters;
   };
 

@@ -74,10 +74,16 @@ struct Driver {
   std::size_t slot = 0;
   Mat2 F = Mat2::Identity();
   PointStress stress;
-  void operator()(ConstitutiveLaw& law, const Mat2& L, double dt) {
+  // The point's update within a step; the step ends when every point of it was updated.
+  void update(ConstitutiveLaw& law, const Mat2& L, double dt) {
     const KinematicIncrement increment = KinematicIncrement::of_velocity_gradient(L, dt);
     F = increment.F * F;
     law.update(slot, increment, F, stress);
+  }
+  // A step of this point alone.
+  void operator()(ConstitutiveLaw& law, const Mat2& L, double dt) {
+    update(law, L, dt);
+    law.end_step();
   }
 };
 
@@ -206,6 +212,47 @@ TEST(SurrogateLaw, TensionBeyondTheLibraryIsAnOffLibraryState) {
               most_tensile, near.estimated_error, -torn.stress.trace() / 3, far.estimated_error);
   // One key gives one error to the bit; the library's own samples set how much larger it is (1.4×).
   EXPECT_GT(far.estimated_error, 1.2 * near.estimated_error);
+}
+
+// Threads reach a step's points in any order. Points learn from each other's live steps only at the
+// end of the step (end_step), so the order does not matter: four points on four turned copies of the
+// off-library motion, at a tolerance that sends them live now and then, end bit for bit alike when
+// each step updates them in slot order and in reverse. (When each live step entered the index at
+// once, a point saw the samples of the points updated before it in the same step.)
+TEST(SurrogateLaw, AStepDoesNotDependOnTheOrderItsPointsAreUpdatedIn) {
+  const std::vector<Mat2> motion = off_library_motion();
+  const double tolerance = median_tolerance(motion);
+  const auto run = [&](bool reverse) {
+    auto law = surrogate_law(settings(tolerance, 2));
+    std::vector<Driver> points;
+    std::vector<Mat2> turns;
+    for (int i = 0; i < 4; ++i) {
+      points.push_back(new_point(*law));
+      const double angle = 0.4 * i;
+      turns.push_back(Mat2{{std::cos(angle), -std::sin(angle)}, {std::sin(angle), std::cos(angle)}});
+    }
+    std::vector<PointStress> stresses;
+    for (const Mat2& L : motion) {
+      for (int j = 0; j < 4; ++j) {
+        const int i = reverse ? 3 - j : j;
+        points[i].update(*law, turns[i] * L * turns[i].transpose(), kDt);
+      }
+      law->end_step();
+      for (const Driver& d : points) stresses.push_back(d.stress);
+    }
+    std::uint64_t went_live = 0;
+    for (const Driver& d : points) went_live += law->point_counters(d.slot).went_live;
+    return std::make_pair(stresses, went_live);
+  };
+  const auto [forward, went_live] = run(false);
+  const auto [backward, went_live_backward] = run(true);
+  ASSERT_GE(went_live, 2u) << "the points must learn for the order to matter";
+  EXPECT_EQ(went_live_backward, went_live);
+  ASSERT_EQ(forward.size(), backward.size());
+  for (std::size_t k = 0; k < forward.size(); ++k) {
+    EXPECT_EQ(forward[k].in_plane, backward[k].in_plane) << "step " << k / 4 << ", point " << k % 4;
+    EXPECT_EQ(forward[k].zz, backward[k].zz) << "step " << k / 4 << ", point " << k % 4;
+  }
 }
 
 // With no tolerance a point never goes live; with an error budget of a few steps' errors it goes live
