@@ -29,12 +29,11 @@ double lode_angle(const dem::Mat3& s) {
 }  // namespace
 
 double pressure_feature(double pressure, const FeatureConstants& constants) {
-  const double floor = std::log(constants.p_floor / constants.p_ref);
   if (pressure >= constants.p_floor) return std::log(pressure / constants.p_ref);
   // Below the floor the normalization no longer tells pressures apart (p_eff = p_floor), so the key
   // must: a bonded cell near its tensile strength answers unlike a cell barely compressed. The mirror
   // of the logarithm keeps the feature monotone and C¹ through the floor and logarithmic in tension.
-  return floor - std::log(2 - pressure / constants.p_floor);
+  return std::log(constants.p_floor / constants.p_ref) - std::log(2 - pressure / constants.p_floor);
 }
 
 double effective_pressure_of_feature(double feature, const FeatureConstants& constants) {
