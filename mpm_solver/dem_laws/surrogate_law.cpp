@@ -78,6 +78,10 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     p.steps_inside = inside ? p.steps_inside + 1 : 0;
     if (settings_.return_after > 0 && p.steps_inside >= settings_.return_after) {
       // The point keeps the cell's state, and the cell for its next live spell.
+      if (p.cell_is_exact) {
+        p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
+        p.checkpoint_at = p.history.size();
+      }
       if (warm_start_) {
         p.parked = std::move(p.cell);
         p.parked_state = p.state;
@@ -112,8 +116,9 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
 void SurrogateLaw::go_live(Point& p, LiveStart how) {
   const auto start = std::chrono::steady_clock::now();
   // The history already holds this step's increment, which advance_live applies.
-  const std::vector<KinematicIncrement> before(p.history.begin(), p.history.end() - 1);
-  if (warm_start_ && how == LiveStart::by_setting && !before.empty()) {
+  const auto before_this_step = p.history.end() - 1;
+  p.cell_is_exact = false;
+  if (warm_start_ && how == LiveStart::by_setting && p.history.size() > 1) {
     std::optional<OwnCell> own;
     if (p.parked) own.emplace(OwnCell{p.parked_state, *p.parked});
     WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
@@ -124,8 +129,11 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
       p.cell = std::make_unique<dem::DemCell>(std::move(outcome.cell));
   }
   if (!p.cell) {
-    p.cell = std::make_unique<dem::DemCell>(model_.new_cell());
-    p.counters.warm_start_increments += static_cast<std::uint64_t>(replay(*p.cell, before, model_, p.counters));
+    const auto from = p.history.begin() + static_cast<std::ptrdiff_t>(p.checkpoint ? p.checkpoint_at : 0);
+    p.cell = p.checkpoint ? std::move(p.checkpoint) : std::make_unique<dem::DemCell>(model_.new_cell());
+    p.counters.warm_start_increments +=
+        static_cast<std::uint64_t>(replay(*p.cell, {from, before_this_step}, model_, p.counters));
+    p.cell_is_exact = true;
     p.spent = 0;  // the point's own history: its drift is gone
   }
   const dem::CellMeasures m = p.cell->measures();
@@ -187,16 +195,19 @@ double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2
 namespace {
 
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
-// since its state was last rebuilt from its history [Pa]; live cells as
-// "cell_<slot>"; the replay histories as append_history writes them; the learned samples as rows
-// features, answer, origin path, origin record, in insertion order; per kept cell: slot and the
-// state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>".
+// since its state was last rebuilt from its history [Pa], live cell started by replay (0/1); live
+// cells as "cell_<slot>"; the replay histories as append_history writes them; the learned samples
+// as rows features, answer, origin path, origin record, in insertion order; per kept cell: slot and
+// the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per checkpoint: slot and
+// the increments it has seen, the cell as "checkpoint_<slot>".
 constexpr std::size_t kStateColumns = 12;
-constexpr std::size_t kPointColumns = 1 + kStateColumns + 3;
+constexpr std::size_t kPointColumns = 1 + kStateColumns + 4;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
 constexpr std::size_t kParkedColumns = 1 + kStateColumns;
+constexpr std::size_t kCheckpointColumns = 2;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 std::string parked_cell_name(std::size_t slot) { return "parked_" + std::to_string(slot); }
+std::string checkpoint_cell_name(std::size_t slot) { return "checkpoint_" + std::to_string(slot); }
 
 void append_state(std::vector<double>& rows, const surrogate::PointState& state) {
   for (int i = 0; i < 3; ++i)
@@ -217,18 +228,22 @@ surrogate::PointState state_from(const double* row) {
 }  // namespace
 
 void SurrogateLaw::save_state(LawStateWriter& out) const {
-  std::vector<double> rows, history, samples, parked;
+  std::vector<double> rows, history, samples, parked, checkpoints;
   for (std::size_t slot = 0; slot < points_.size(); ++slot) {
     const Point& p = points_[slot];
     rows.push_back(double(slot));
     append_state(rows, p.state);
-    rows.insert(rows.end(), {p.cell ? 1.0 : 0.0, double(p.steps_inside), p.spent});
+    rows.insert(rows.end(), {p.cell ? 1.0 : 0.0, double(p.steps_inside), p.spent, p.cell_is_exact ? 1.0 : 0.0});
     append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
     if (p.parked) {
       parked.push_back(double(slot));
       append_state(parked, p.parked_state);
       out.write_cell(parked_cell_name(slot), *p.parked);
+    }
+    if (p.checkpoint) {
+      checkpoints.insert(checkpoints.end(), {double(slot), double(p.checkpoint_at)});
+      out.write_cell(checkpoint_cell_name(slot), *p.checkpoint);
     }
   }
   {
@@ -243,6 +258,7 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
   out.write_table("replay_history", history, kHistoryColumns);
   out.write_table("surrogate_learned", samples, kSampleColumns);
   out.write_table("surrogate_parked", parked, kParkedColumns);
+  out.write_table("surrogate_checkpoints", checkpoints, kCheckpointColumns);
 }
 
 void SurrogateLaw::restore_state(LawStateReader& in) {
@@ -257,6 +273,7 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     p.state = state_from(&rows[r + 1]);
     p.steps_inside = static_cast<int>(rows[r + 14]);
     p.spent = rows[r + 15];
+    p.cell_is_exact = rows[r + 16] != 0;
     p.error = 0;
     p.source = StressSource::hit;
     if (p.cell) --live_points_;
@@ -273,6 +290,14 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     Point& p = points_.at(slot);
     p.parked_state = state_from(&parked[r + 1]);
     p.parked = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(parked_cell_name(slot))));
+  }
+  for (Point& p : points_) p.checkpoint.reset();
+  const std::vector<double> checkpoints = in.read_table("surrogate_checkpoints", kCheckpointColumns);
+  for (std::size_t r = 0; r < checkpoints.size(); r += kCheckpointColumns) {
+    const auto slot = static_cast<std::size_t>(checkpoints[r]);
+    Point& p = points_.at(slot);
+    p.checkpoint_at = static_cast<std::size_t>(checkpoints[r + 1]);
+    p.checkpoint = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(checkpoint_cell_name(slot))));
   }
   const std::vector<double> table = in.read_table("surrogate_learned", kSampleColumns);
   std::vector<surrogate::Sample> samples;

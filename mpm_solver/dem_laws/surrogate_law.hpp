@@ -10,6 +10,9 @@
 // - Going live (issue 13, item 3) because the error budget is spent: the cell is rebuilt by replay
 //   (below), whatever warm_start says, since a cell started from the point's state would carry its
 //   drifted stress on and the budget exists to end that drift.
+// - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
+//   started by replay, kept when the point returned, with the increments since then. It is the cell
+//   a replay from the template would give, to the bit, and each increment is replayed at most once.
 // - Going live because a step's estimate exceeds the tolerance, with warm_start "state" (the
 //   default): the point's cell is the
 //   stored cell nearest in state (the library's snapshots of the template's paths, and the template
@@ -18,7 +21,7 @@
 //   stress_tolerance), the snapshot's φ, Z and D; a servo that does not converge leaves the stress
 //   the packing could reach (or, with unconverged "replay", the point replays). With warm_start
 //   "replay", and on the point's first step, the cell is rebuilt by replaying the point's own
-//   increments from the template (exact: the cell a live-law point would own). A live cell answers
+//   increments (exact: the cell a live-law point would own). A live cell answers
 //   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.
 // - Every live step's response (the cell's state before and after, under the increment's L) enters
@@ -34,7 +37,7 @@
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
-//   cell and kept cell, and the samples learned so far: a restart continues bit for bit.
+//   cell, kept cell and checkpoint, and the samples learned so far: a restart continues bit for bit.
 #pragma once
 #include <atomic>
 #include <limits>
@@ -113,6 +116,11 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     // then: a start for its next live spell (state_warm_start.hpp).
     std::unique_ptr<dem::DemCell> parked;
     surrogate::PointState parked_state;
+    // The point's last exact cell (the cell a live-law point would own after the first
+    // `checkpoint_at` increments of its history): a replay starts from it instead of the template.
+    std::unique_ptr<dem::DemCell> checkpoint;
+    std::size_t checkpoint_at = 0;
+    bool cell_is_exact = false;               // the live cell was started by replay
     int steps_inside = 0;                     // consecutive live steps within the tolerance
     double spent = 0;                         // [Pa] estimated errors summed since the last replay
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay

@@ -20,7 +20,7 @@ namespace grainbank::mpm::io {
 //    longer carry an F of their own; points carry APIC's affine velocity B_p.
 // 4: the surrogate's learned samples carry the pressure feature that tells tension apart
 //    (state_features.hpp); keys written before meant another thing below p_floor.
-inline constexpr const char* kRestartFormat = "grainbank-restart-4";
+inline constexpr const char* kRestartFormat = "grainbank-restart-5";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
 

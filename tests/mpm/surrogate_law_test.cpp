@@ -258,7 +258,8 @@ TEST(SurrogateLaw, AStepDoesNotDependOnTheOrderItsPointsAreUpdatedIn) {
 // With no tolerance a point never goes live; with an error budget of a few steps' errors it goes live
 // whenever the next step would spend past the budget, so the estimated errors summed over each run of
 // surrogate steps stay within it (and the point then returns after one live step). It goes live by
-// replay, not by state: its live stress is then exactly the live law's.
+// replay, not by state: its live stress is then exactly the live law's. Each replay starts from the
+// cell of the previous one, so no increment goes through a cell twice.
 TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   const std::vector<Mat2> motion = off_library_motion();
   const std::vector<double> errors = surrogate_errors(motion);
@@ -286,7 +287,9 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   double unbounded = 0;
   for (double e : errors) unbounded += e;
   ASSERT_GT(unbounded, 2 * budget) << "the motion must spend past the budget without one";
-  EXPECT_GE(law->point_counters(d.slot).went_live, 1u);
+  const CouplingCounters& c = law->point_counters(d.slot);
+  EXPECT_GE(c.went_live, 3u);
+  EXPECT_LE(c.warm_start_increments + c.live_updates, motion.size()) << "an increment replayed twice";
   EXPECT_LE(largest, budget);
   EXPECT_GT(largest, 0.0);
 }
@@ -432,44 +435,54 @@ TEST(SurrogateLaw, ARestartContinuesBitForBit) {
   // goes live, returns, and goes live again.
   std::vector<Mat2> motion(20, off_library_motion().front());
   motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
-  const SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
-  Solver straight = one_point_solver(s);
-  Driver d;
-  std::vector<PointStress> expected;
-  std::vector<StressSource> sources;
-  for (const Mat2& L : motion) {
-    d(law_of(straight), L, kDt);
-    expected.push_back(d.stress);
-    sources.push_back(law_of(straight).source(0));
-  }
-  // Restart one step after the point first went live (its cell, history and learned samples
-  // matter), and one step after it first handed its cell back, before it goes live again (the kept
-  // cell it will start from matters).
-  const auto live = std::find(sources.begin(), sources.end(), StressSource::live);
-  ASSERT_NE(live, sources.end());
-  const auto back = std::find(live, sources.end(), StressSource::hit);
-  ASSERT_NE(back, sources.end()) << "the point never returned to the surrogate";
-  ASSERT_NE(std::find(back, sources.end(), StressSource::live), sources.end()) << "nor went live again";
-  for (const auto restart_after : {static_cast<std::size_t>(live - sources.begin()) + 2,
-                                   static_cast<std::size_t>(back - sources.begin()) + 1}) {
-    SCOPED_TRACE("restart after step " + std::to_string(restart_after));
-    ASSERT_LT(restart_after, motion.size());
-    Solver first = one_point_solver(s);
-    Driver e;
-    for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
-    const std::filesystem::path file = shared().dir.path() / "restart.h5";
-    io::write_restart(file, first);
-    Solver resumed = one_point_solver(s);
-    io::read_restart(file, resumed);
-    EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
-    for (std::size_t k = restart_after; k < motion.size(); ++k) {
-      e(law_of(resumed), motion[k], kDt);
-      EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
-      EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
-      EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+  // Live spells start from a cell servoed to the point's state, or by replay from the point's
+  // checkpoint.
+  for (const auto warm_start : {SurrogateLawSettings::WarmStart::state, SurrogateLawSettings::WarmStart::replay}) {
+    SCOPED_TRACE(warm_start == SurrogateLawSettings::WarmStart::state ? "state warm start" : "replay");
+    SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
+    s.warm_start = warm_start;
+    Solver straight = one_point_solver(s);
+    Driver d;
+    std::vector<PointStress> expected;
+    std::vector<StressSource> sources;
+    for (const Mat2& L : motion) {
+      d(law_of(straight), L, kDt);
+      expected.push_back(d.stress);
+      sources.push_back(law_of(straight).source(0));
     }
-    EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
-    EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
+    // Restart one step after the point first went live (its cell, history and learned samples
+    // matter), and one step after it first handed its cell back, before it goes live again (the kept
+    // cell or the checkpoint it will start from matters).
+    const auto live = std::find(sources.begin(), sources.end(), StressSource::live);
+    ASSERT_NE(live, sources.end());
+    const auto back = std::find(live, sources.end(), StressSource::hit);
+    ASSERT_NE(back, sources.end()) << "the point never returned to the surrogate";
+    ASSERT_NE(std::find(back, sources.end(), StressSource::live), sources.end()) << "nor went live again";
+    for (const auto restart_after : {static_cast<std::size_t>(live - sources.begin()) + 2,
+                                     static_cast<std::size_t>(back - sources.begin()) + 1}) {
+      SCOPED_TRACE("restart after step " + std::to_string(restart_after));
+      ASSERT_LT(restart_after, motion.size());
+      Solver first = one_point_solver(s);
+      Driver e;
+      for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
+      const std::filesystem::path file = shared().dir.path() / "restart.h5";
+      io::write_restart(file, first);
+      Solver resumed = one_point_solver(s);
+      io::read_restart(file, resumed);
+      EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
+      for (std::size_t k = restart_after; k < motion.size(); ++k) {
+        e(law_of(resumed), motion[k], kDt);
+        EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
+        EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
+        EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+      }
+      EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
+      EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
+      // A replay after the restart starts where one in the straight run does: the same increments.
+      EXPECT_EQ(law_of(resumed).point_counters(0).warm_start_increments,
+                law_of(straight).point_counters(0).warm_start_increments -
+                    law_of(first).point_counters(0).warm_start_increments);
+    }
   }
 }
 
