@@ -98,9 +98,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
   if (!step.hit || budget_spent) {
     ++p.counters.misses;
-    // A cell started by state would carry the point's drifted stress on; the budget is there to end
-    // the drift, which only the point's own history does.
-    go_live(p, budget_spent ? LiveStart::replay : LiveStart::by_setting);
+    go_live(p);
     advance_live(slot, p, increment, L, stress);
     return;
   }
@@ -113,12 +111,12 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   p.error = step.estimated_error;
 }
 
-void SurrogateLaw::go_live(Point& p, LiveStart how) {
+void SurrogateLaw::go_live(Point& p) {
   const auto start = std::chrono::steady_clock::now();
   // The history already holds this step's increment, which advance_live applies.
   const auto before_this_step = p.history.end() - 1;
   p.cell_is_exact = false;
-  if (warm_start_ && how == LiveStart::by_setting && p.history.size() > 1) {
+  if (warm_start_ && p.history.size() > 1) {
     std::optional<OwnCell> own;
     if (p.parked) own.emplace(OwnCell{p.parked_state, *p.parked});
     WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
@@ -134,8 +132,8 @@ void SurrogateLaw::go_live(Point& p, LiveStart how) {
     p.counters.warm_start_increments +=
         static_cast<std::uint64_t>(replay(*p.cell, {from, before_this_step}, model_, p.counters));
     p.cell_is_exact = true;
-    p.spent = 0;  // the point's own history: its drift is gone
   }
+  p.spent = 0;
   const dem::CellMeasures m = p.cell->measures();
   p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
   p.steps_inside = 0;
@@ -195,7 +193,7 @@ double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2
 namespace {
 
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
-// since its state was last rebuilt from its history [Pa], live cell started by replay (0/1); live
+// since its last live spell [Pa], live cell started by replay (0/1); live
 // cells as "cell_<slot>"; the replay histories as append_history writes them; the learned samples
 // as rows features, answer, origin path, origin record, in insertion order; per kept cell: slot and
 // the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per checkpoint: slot and

@@ -7,14 +7,14 @@
 // - Each update of a point that is not live takes surrogate_step for its state under the
 //   increment's L: when the estimated error of the step's stress [Pa] is within `tolerance` the
 //   point's state advances with the predicted answer (source hit); otherwise the point goes live.
-// - Going live (issue 13, item 3) because the error budget is spent: the cell is rebuilt by replay
-//   (below), whatever warm_start says, since a cell started from the point's state would carry its
-//   drifted stress on and the budget exists to end that drift.
+// - A point also goes live when its step would spend past the error budget: the estimated errors it
+//   has summed since its last live spell. The spell starts as warm_start says. By replay it ends the
+//   drift; by state it carries the drifted stress into a cell, which the live spell then advances
+//   by the cell's own response (and which cannot carry a stress past what its packing holds).
 // - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.
-// - Going live because a step's estimate exceeds the tolerance, with warm_start "state" (the
-//   default): the point's cell is the
+// - Going live with warm_start "state" (the default): the point's cell is the
 //   stored cell nearest in state (the library's snapshots of the template's paths, and the template
 //   itself) brought to the point's stress by the stress servo (state_warm_start.hpp), so its cost
 //   does not grow with the run. The point then carries the cell's state: its own σ (within
@@ -59,11 +59,9 @@ struct SurrogateLawSettings {
   double tolerance = 0;  // [Pa] estimated error of one step's stress above which a point goes live
   surrogate::SurrogateOptions surrogate;  // k (and the local fit's ridge)
   int return_after = 0;   // live steps within the tolerance before a point returns to the surrogate
-  // [Pa] the sum of a point's estimated step errors since its state was last rebuilt from its own
-  // history (a replayed cell, or the start) may not exceed this: a step that would exceed it goes
-  // live by replay instead (issue 13: an error budget per point over the run, so small errors cannot
-  // drift unchecked; a cell started by state carries the drift on, so it does not end it).
-  // Infinite: no budget.
+  // [Pa] the sum of a point's estimated step errors since its last live spell may not exceed this:
+  // a step that would exceed it goes live instead (issue 13: an error budget per point over the
+  // run, so small errors cannot drift unchecked). Infinite: no budget.
   double error_budget = std::numeric_limits<double>::infinity();
   LiveDemSettings live;   // of the live cells
   enum class WarmStart { state, replay } warm_start = WarmStart::state;
@@ -122,14 +120,13 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     std::size_t checkpoint_at = 0;
     bool cell_is_exact = false;               // the live cell was started by replay
     int steps_inside = 0;                     // consecutive live steps within the tolerance
-    double spent = 0;                         // [Pa] estimated errors summed since the last replay
+    double spent = 0;                         // [Pa] estimated errors summed since the last live spell
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
     std::vector<surrogate::Sample> learned_this_step;  // inserted by end_step
     CouplingCounters counters;
   };
 
-  enum class LiveStart { by_setting, replay };
-  void go_live(Point& p, LiveStart how);
+  void go_live(Point& p);
   void advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
                     PointStress& stress);
   void learn(const std::vector<surrogate::Sample>& samples);
