@@ -1,6 +1,6 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
-column as the one held-out scene, its four runs, summary.json with the per-scene fields, the table and
-the figure, every template prepared with the spheres asked for and the surrogate at the tolerance asked for; and the live reference is deterministic: its scene run again gives no error at all."""
+column as the one held-out scene, its five runs, summary.json with the per-scene fields, the table and
+the figure, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
 import math
 
@@ -12,19 +12,23 @@ from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflo
 class GeneralizationTest(WorkflowTest):
     def test_smoke_benchmark(self):
         run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1",
-             "--spheres", "64", "--tolerance", "40"])
+             "--spheres", "64", "--tolerance", "40", "--error-budget", "150"])
         summary = self.assert_json_fields(self.out / "summary.json", ["paths", "spheres", "end_s", "libraries_cpu_s", "scenes"])
         self.assertEqual(summary["spheres"], 64)
         self.assertEqual(summary["surrogate"]["tolerance"], 40)
         scene_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate.json").read_text())["materials"][0]
         self.assertEqual((scene_material["law"], scene_material["tolerance"]), ("surrogate", 40))
+        self.assertNotIn("error_budget", scene_material)
+        budget_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate_budget.json").read_text())["materials"][0]
+        self.assertEqual((budget_material["law"], budget_material["tolerance"], budget_material["error_budget"]),
+                         ("surrogate", 40, 150))
         for library in ("lib_bond_1", "lib_bond_1_seed"):
             self.assert_template_spheres(self.out / library, 64)
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):
             self.assertIn(key, scene)
-        self.assertEqual(sorted(scene["runs"]), ["hybrid", "live", "live_seed", "surrogate"])
+        self.assertEqual(sorted(scene["runs"]), ["hybrid", "live", "live_seed", "surrogate", "surrogate_budget"])
         for name, r in scene["runs"].items():
             self.assertEqual(r["failed"], "", name)
             self.assertTrue(math.isfinite(r["cpu_s"]) and r["cpu_s"] > 0, name)

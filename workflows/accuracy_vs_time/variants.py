@@ -21,10 +21,12 @@ def hybrid(start="warm_start", return_after=10, **lookup_keys):
     return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after}, "enrich": False}
 
 
-def surrogate(tolerance_pa=50.0, return_after=5):
+def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
     """The state-keyed surrogate, back after 5 steps within its tolerance as in the demo; a base scene's
-    hybrid fallback start, which the surrogate does not take, is removed (null)."""
-    return {"tolerance": tolerance_pa, "fallback": {"start": None, "return_after": return_after}}
+    hybrid fallback start, which the surrogate does not take, is removed (null), and so is the base's
+    error budget unless one is given."""
+    return {"tolerance": tolerance_pa, "error_budget": error_budget_pa,
+            "fallback": {"start": None, "return_after": return_after}}
 
 
 NOISE_FLOOR = "other_seed"
@@ -58,6 +60,11 @@ FULL = {
                          "material": surrogate(tolerance_pa=25.0)},
     "surrogate_tol_100": {"knob": "surrogate tolerance [Pa]", "value": 100.0, "law": "surrogate",
                           "material": surrogate(tolerance_pa=100.0)},
+    # An error budget per point: no run of small errors drifts unchecked (surrogate_law.hpp).
+    "surrogate_budget_300": {"knob": "surrogate error budget [Pa] (tolerance 50 Pa)", "value": 300.0,
+                             "law": "surrogate", "material": surrogate(error_budget_pa=300.0)},
+    "surrogate_tol_100_budget_300": {"knob": "surrogate error budget [Pa] (tolerance 100 Pa)", "value": 300.0,
+                                     "law": "surrogate", "material": surrogate(tolerance_pa=100.0, error_budget_pa=300.0)},
     # A library of this scene's own states: the second run of a scene (a re-run, a parameter study).
     # `enriching` builds it (hybrid on the bare template: every point live from its first step, the
     # live law to round-off); the runs after it look up in it.
@@ -75,7 +82,8 @@ FULL = {
 SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, "q_sigma_0.5", "hybrid", "surrogate", "enriching",
                                        "hybrid_enriched")}
 REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "surrogate", "surrogate_tol_25", "surrogate_tol_100",
-                                         "q_t_0.2", "hybrid", "hybrid_tol_10", "cache")}
+                                         "surrogate_budget_300", "surrogate_tol_100_budget_300", "q_t_0.2", "hybrid",
+                                         "hybrid_tol_10", "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "hybrid", "enriching", "hybrid_enriched",
                                           "cache_enriched")}
 

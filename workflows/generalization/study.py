@@ -2,7 +2,7 @@
 """Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
 
   study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--tolerance PA]
-           [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
+           [--error-budget PA] [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
 
 The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
 default workflows/demo/paths.json; workflows/precompute/states.json adds state probes): no run of any
@@ -17,7 +17,9 @@ opens at `--gate` and the scene ends at `--end`.
 Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
 seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
 `surrogate` (the state key, its material keys from surrogate.json beside this script; `--tolerance`
-replaces its tolerance).
+replaces its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
+default 300 Pa: each point goes live when its estimated errors summed since its last live spell
+would pass it).
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
@@ -42,7 +44,7 @@ ROOT = WORKFLOWS.parent
 CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
 HYBRID = {"lookup": {"k": 4, "tolerance": 10.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}},
           "fallback": {"start": "warm_start", "return_after": 5}, "enrich": False}
-RUNS = ("live", "live_seed", "hybrid", "surrogate")
+RUNS = ("live", "live_seed", "hybrid", "surrogate", "surrogate_budget")
 SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
 
 
@@ -98,7 +100,8 @@ def surrogate_material(args):
 
 def run_scene(name, settings, libs, surrogate, build, args):
     specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
-             "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate)}
+             "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
+             "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget})}
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
@@ -147,12 +150,12 @@ def plot(summary, out):
     for ax, (key, label, log) in zip(axes, panels):
         for i, run in enumerate(RUNS):
             values = [summary["scenes"][n]["runs"][run][key] or 0.0 for n in names]  # None: not measured
-            ax.bar([k + (i - 1.5) * width for k in range(len(names))], values, width, label=run)
+            ax.bar([k + (i - (len(RUNS) - 1) / 2) * width for k in range(len(names))], values, width, label=run)
         ax.set_xticks(range(len(names)), names, rotation=30, ha="right")
         ax.set_title(label)
         if log:
             ax.set_yscale("log")
-    axes[0].legend()
+    axes[1].legend(loc="upper left")  # the runout panel's left is empty: runs that stand have no runout
     fig.savefig(out, dpi=DPI)
     plt.close(fig)
 
@@ -165,6 +168,8 @@ def main():
     parser.add_argument("--bonds", default="1,1.5")
     parser.add_argument("--spheres", type=int, help="spheres per cell instead of the 125 of CELL")
     parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of surrogate.json's")
+    parser.add_argument("--error-budget", type=float, default=300.0,
+                        help="the surrogate_budget run's error_budget [Pa]")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
     parser.add_argument("--threads", type=int, default=environment.threads())
@@ -180,7 +185,7 @@ def main():
     build = args.build.resolve()
     spheres = args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"]
     surrogate = surrogate_material(args)
-    summary = {"paths": str(args.paths), "surrogate": surrogate, "spheres": spheres,
+    summary = {"paths": str(args.paths), "surrogate": surrogate, "error_budget": args.error_budget, "spheres": spheres,
                "end_s": args.end, "gate_s": args.gate, "threads": args.threads, "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
