@@ -283,8 +283,9 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
       truth(live, L, kDt);
       spent = law->source(d.slot) == StressSource::hit ? spent + law->estimated_error(d.slot) : 0.0;
       largest = std::max(largest, spent);
-      if (by_replay && law->source(d.slot) == StressSource::live)
+      if (by_replay && law->source(d.slot) == StressSource::live) {
         EXPECT_EQ(d.stress.in_plane, truth.stress.in_plane);
+      }
     }
     const CouplingCounters& c = law->point_counters(d.slot);
     EXPECT_GE(c.went_live, 2u);
