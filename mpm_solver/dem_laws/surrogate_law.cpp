@@ -169,14 +169,10 @@ void SurrogateLaw::end_step() {
 
 void SurrogateLaw::learn(const std::vector<surrogate::Sample>& samples) {
   index_->insert(samples);
-  const std::lock_guard<std::mutex> guard(learned_mutex_);
   learned_.insert(learned_.end(), samples.begin(), samples.end());
 }
 
-std::size_t SurrogateLaw::learned() const {
-  const std::lock_guard<std::mutex> guard(learned_mutex_);
-  return learned_.size();
-}
+std::size_t SurrogateLaw::learned() const { return learned_.size(); }
 
 double SurrogateLaw::p_wave_modulus(std::size_t slot) const {
   dem::CellMeasures m;
@@ -244,13 +240,10 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
       out.write_cell(checkpoint_cell_name(slot), *p.checkpoint);
     }
   }
-  {
-    const std::lock_guard<std::mutex> guard(learned_mutex_);
-    for (const surrogate::Sample& s : learned_) {
-      samples.insert(samples.end(), s.features.begin(), s.features.end());
-      samples.insert(samples.end(), s.answer.begin(), s.answer.end());
-      samples.insert(samples.end(), {double(s.origin.path_id), double(s.origin.record_index)});
-    }
+  for (const surrogate::Sample& s : learned_) {
+    samples.insert(samples.end(), s.features.begin(), s.features.end());
+    samples.insert(samples.end(), s.answer.begin(), s.answer.end());
+    samples.insert(samples.end(), {double(s.origin.path_id), double(s.origin.record_index)});
   }
   out.write_table("surrogate_points", rows, kPointColumns);
   out.write_table("replay_history", history, kHistoryColumns);

@@ -42,7 +42,6 @@
 #include <atomic>
 #include <limits>
 #include <memory>
-#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -136,8 +135,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   surrogate::PointState template_state_;
   std::unique_ptr<surrogate::SurrogateIndex> index_;
   std::optional<StateWarmStart> warm_start_;
-  mutable std::mutex learned_mutex_;
-  std::vector<surrogate::Sample> learned_;  // guarded by learned_mutex_
+  // Appended only by end_step and restore_state, which run outside any parallel region.
+  std::vector<surrogate::Sample> learned_;
   std::vector<Point> points_;
   std::atomic<long> live_points_{0};
 };
