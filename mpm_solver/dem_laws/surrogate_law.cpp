@@ -98,6 +98,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
   if (!step.hit || budget_spent) {
     ++p.counters.misses;
+    if (budget_spent) ++p.counters.went_live_on_budget;
     go_live(p);
     advance_live(slot, p, increment, L, stress);
     return;

@@ -141,6 +141,7 @@ TEST(SurrogateLaw, WithToleranceZeroEveryStepIsLiveAndEqualsTheLiveLaw) {
   }
   const CouplingCounters c = law->point_counters(a.slot);
   EXPECT_EQ(c.went_live, 1u);
+  EXPECT_EQ(c.went_live_on_budget, 0u) << "no budget was set";
   EXPECT_EQ(c.live_updates, 8u);
   EXPECT_EQ(c.warm_start_increments, 0u);  // live from the first step: the template itself
   EXPECT_EQ(law->learned(), 8u);
@@ -289,6 +290,7 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
     }
     const CouplingCounters& c = law->point_counters(d.slot);
     EXPECT_GE(c.went_live, 2u);
+    EXPECT_EQ(c.went_live_on_budget, c.went_live) << "with no tolerance, only the budget sends a point live";
     EXPECT_LE(largest, budget);
     EXPECT_GT(largest, 0.0);
     if (by_replay) {
