@@ -76,7 +76,10 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
         surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance).hit;
     advance_live(slot, p, increment, L, stress);
     p.steps_inside = inside ? p.steps_inside + 1 : 0;
-    if (settings_.return_after > 0 && p.steps_inside >= settings_.return_after) {
+    // A spell the budget started needs no hysteresis: the surrogate could answer the point, it
+    // went live to end a drift, and one step within the tolerance shows the drift is ended.
+    const int needed = p.budget_spell ? 1 : settings_.return_after;
+    if (settings_.return_after > 0 && p.steps_inside >= needed) {
       // The point keeps the cell's state, and the cell for its next live spell.
       if (p.cell_is_exact) {
         p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
@@ -99,6 +102,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   if (!step.hit || budget_spent) {
     ++p.counters.misses;
     if (budget_spent) ++p.counters.went_live_on_budget;
+    p.budget_spell = budget_spent;
     go_live(p);
     advance_live(slot, p, increment, L, stress);
     return;
@@ -190,13 +194,14 @@ double SurrogateLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2
 namespace {
 
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
-// since its last live spell [Pa], live cell started by replay (0/1); live
+// since its last live spell [Pa], live cell started by replay (0/1), live spell started by the
+// budget (0/1); live
 // cells as "cell_<slot>"; the replay histories as append_history writes them; the learned samples
 // as rows features, answer, origin path, origin record, in insertion order; per kept cell: slot and
 // the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per checkpoint: slot and
 // the increments it has seen, the cell as "checkpoint_<slot>".
 constexpr std::size_t kStateColumns = 12;
-constexpr std::size_t kPointColumns = 1 + kStateColumns + 4;
+constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
 constexpr std::size_t kParkedColumns = 1 + kStateColumns;
 constexpr std::size_t kCheckpointColumns = 2;
@@ -228,7 +233,8 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
     const Point& p = points_[slot];
     rows.push_back(double(slot));
     append_state(rows, p.state);
-    rows.insert(rows.end(), {p.cell ? 1.0 : 0.0, double(p.steps_inside), p.spent, p.cell_is_exact ? 1.0 : 0.0});
+    rows.insert(rows.end(), {p.cell ? 1.0 : 0.0, double(p.steps_inside), p.spent, p.cell_is_exact ? 1.0 : 0.0,
+                             p.budget_spell ? 1.0 : 0.0});
     append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
     if (p.parked) {
@@ -266,6 +272,7 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     p.steps_inside = static_cast<int>(rows[r + 14]);
     p.spent = rows[r + 15];
     p.cell_is_exact = rows[r + 16] != 0;
+    p.budget_spell = rows[r + 17] != 0;
     p.error = 0;
     p.source = StressSource::hit;
     if (p.cell) --live_points_;

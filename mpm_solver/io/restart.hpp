@@ -22,7 +22,7 @@ namespace grainbank::mpm::io {
 //    (state_features.hpp); keys written before meant another thing below p_floor.
 // 5: the surrogate law keeps each point's checkpoint (its last cell started by replay) and whether
 //    its live cell is one; the error spent counts since the last live spell.
-inline constexpr const char* kRestartFormat = "grainbank-restart-5";
+inline constexpr const char* kRestartFormat = "grainbank-restart-6";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
 

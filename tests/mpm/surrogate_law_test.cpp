@@ -272,7 +272,7 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   for (const auto warm_start : {SurrogateLawSettings::WarmStart::replay, SurrogateLawSettings::WarmStart::state}) {
     const bool by_replay = warm_start == SurrogateLawSettings::WarmStart::replay;
     SCOPED_TRACE(by_replay ? "replay" : "state warm start");
-    SurrogateLawSettings s = settings(kNoLimit, 1);
+    SurrogateLawSettings s = settings(kNoLimit, 5);
     s.error_budget = budget;
     s.warm_start = warm_start;
     auto law = surrogate_law(s);
@@ -291,6 +291,8 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
     const CouplingCounters& c = law->point_counters(d.slot);
     EXPECT_GE(c.went_live, 2u);
     EXPECT_EQ(c.went_live_on_budget, c.went_live) << "with no tolerance, only the budget sends a point live";
+    // Each spell: the step that went live and one step the surrogate could answer, not return_after.
+    EXPECT_LE(c.live_updates, 2 * c.went_live);
     EXPECT_LE(largest, budget);
     EXPECT_GT(largest, 0.0);
     if (by_replay) {
