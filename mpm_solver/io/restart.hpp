@@ -22,6 +22,7 @@ namespace grainbank::mpm::io {
 //    (state_features.hpp); keys written before meant another thing below p_floor.
 // 5: the surrogate law keeps each point's checkpoint (its last cell started by replay) and whether
 //    its live cell is one; the error spent counts since the last live spell.
+// 6: the surrogate law keeps whether a point's live spell was started by its spent error budget.
 inline constexpr const char* kRestartFormat = "grainbank-restart-6";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
