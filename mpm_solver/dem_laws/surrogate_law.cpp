@@ -78,8 +78,8 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     p.steps_inside = inside ? p.steps_inside + 1 : 0;
     // A spell the budget started needs no hysteresis: the surrogate could answer the point, it
     // went live to end a drift, and one step within the tolerance shows the drift is ended.
-    const int needed = p.budget_spell ? 1 : settings_.return_after;
-    if (settings_.return_after > 0 && p.steps_inside >= needed) {
+    const int steps_to_return = p.budget_spell ? 1 : settings_.return_after;
+    if (settings_.return_after > 0 && p.steps_inside >= steps_to_return) {
       // The point keeps the cell's state, and the cell for its next live spell.
       if (p.cell_is_exact) {
         p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
@@ -195,8 +195,9 @@ namespace {
 
 // Per point: slot, σ (9, row-major), φ, Z, D, live (0/1), steps inside the tolerance, error spent
 // since its last live spell [Pa], live cell started by replay (0/1), live spell started by the
-// budget (0/1); live cells as "cell_<slot>"; the replay histories as append_history writes them; the learned samples
-// as rows features, answer, origin path, origin record, in insertion order; per kept cell: slot and
+// budget (0/1); live cells as "cell_<slot>"; the replay histories as append_history writes them;
+// the learned samples as rows features, answer, origin path, origin record, in insertion order;
+// per kept cell: slot and
 // the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per checkpoint: slot and
 // the increments it has seen, the cell as "checkpoint_<slot>".
 constexpr std::size_t kStateColumns = 12;
