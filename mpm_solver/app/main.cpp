@@ -98,8 +98,13 @@ int audit_main(int argc, char** argv) {
   cli.add_option("run", o.run, "output folder of the run (its --out)")->required();
   cli.add_option("--threads", threads, "OpenMP threads (default: all)")->check(CLI::PositiveNumber);
   cli.add_flag("--json", o.json, "print the summary as JSON");
+  std::string floor_cell;
+  cli.add_option("--floor-cell", floor_cell,
+                 "cell.json of the reference's recipe with another packing seed: also re-run the histories with "
+                 "it and report its errors against the reference (the audit's noise floor)");
   CLI11_PARSE(cli, argc, argv);
   if (threads > 0) omp_set_num_threads(threads);
+  if (!floor_cell.empty()) o.floor_cell = floor_cell;
   run_audit_command(o, std::cout);
   return 0;
 }

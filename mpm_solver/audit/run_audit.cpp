@@ -40,16 +40,9 @@ std::vector<StepComparison> rerun(const io::PointTrail& point, const ReferenceSl
   return steps;
 }
 
-stats::ErrorSummary summary_of(const std::vector<StepComparison>& steps, bool (*selected)(StressSource)) {
-  std::vector<double> errors;
-  for (const StepComparison& c : steps)
-    if (selected(c.source)) errors.push_back(c.relative_error);
-  return stats::summarize(errors);
-}
-
-}  // namespace
-
-RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlot(std::uint32_t)>& reference_of) {
+// Every point re-run in its reference slot (points in parallel), its steps in order, point by point.
+std::vector<StepComparison> rerun_all(const io::AuditTrail& trail,
+                                      const std::function<ReferenceSlot(std::uint32_t)>& reference_of) {
   std::vector<ReferenceSlot> references;
   for (const io::PointTrail& p : trail.points) references.push_back(reference_of(p.id));
 
@@ -66,24 +59,62 @@ RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlo
     }
   }
   if (failure) std::rethrow_exception(failure);
+  std::vector<StepComparison> steps;
+  for (auto& point : per_point) steps.insert(steps.end(), point.begin(), point.end());
+  return steps;
+}
 
+bool is_hit(StressSource s) { return s == StressSource::hit; }
+bool is_miss(StressSource s) { return s == StressSource::miss; }
+bool is_live(StressSource s) { return s == StressSource::live; }
+bool is_cached(StressSource s) { return s == StressSource::hit || s == StressSource::miss; }
+bool is_any(StressSource) { return true; }
+
+// The errors of the steps whose source is selected.
+stats::ErrorSummary summary_of(const std::vector<StepComparison>& steps, const std::vector<double>& errors,
+                               bool (*selected)(StressSource)) {
+  std::vector<double> chosen;
+  for (std::size_t i = 0; i < steps.size(); ++i)
+    if (selected(steps[i].source)) chosen.push_back(errors[i]);
+  return stats::summarize(chosen);
+}
+
+}  // namespace
+
+RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlot(std::uint32_t)>& reference_of) {
   RunAudit audit;
+  audit.steps = rerun_all(trail, reference_of);
   std::vector<double> live_norms;
-  for (auto& steps : per_point)
-    for (StepComparison& c : steps) {
-      live_norms.push_back(stats::stress_norm(stress6(c.live)));
-      audit.steps.push_back(c);
-    }
+  for (const StepComparison& c : audit.steps) live_norms.push_back(stats::stress_norm(stress6(c.live)));
   audit.stress_floor = live_norms.empty() ? 0.0 : 0.01 * stats::quantile(live_norms, 0.5);
-  for (StepComparison& c : audit.steps)
+  std::vector<double> errors;
+  for (StepComparison& c : audit.steps) {
     c.relative_error = stats::relative_stress_error(stress6(c.run), stress6(c.live), audit.stress_floor);
-
-  audit.hit = summary_of(audit.steps, [](StressSource s) { return s == StressSource::hit; });
-  audit.miss = summary_of(audit.steps, [](StressSource s) { return s == StressSource::miss; });
-  audit.live = summary_of(audit.steps, [](StressSource s) { return s == StressSource::live; });
-  audit.cached = summary_of(audit.steps, [](StressSource s) { return s == StressSource::hit || s == StressSource::miss; });
-  audit.all = summary_of(audit.steps, [](StressSource) { return true; });
+    errors.push_back(c.relative_error);
+  }
+  audit.hit = summary_of(audit.steps, errors, is_hit);
+  audit.miss = summary_of(audit.steps, errors, is_miss);
+  audit.live = summary_of(audit.steps, errors, is_live);
+  audit.cached = summary_of(audit.steps, errors, is_cached);
+  audit.all = summary_of(audit.steps, errors, is_any);
   return audit;
+}
+
+NoiseFloor noise_floor(const io::AuditTrail& trail, const RunAudit& audit,
+                       const std::function<ReferenceSlot(std::uint32_t)>& other_of) {
+  const std::vector<StepComparison> other = rerun_all(trail, other_of);
+  NoiseFloor floor;
+  for (std::size_t i = 0; i < other.size(); ++i) {
+    floor.other.push_back(other[i].live);
+    floor.relative_error.push_back(
+        stats::relative_stress_error(stress6(other[i].live), stress6(audit.steps[i].live), audit.stress_floor));
+  }
+  floor.hit = summary_of(audit.steps, floor.relative_error, is_hit);
+  floor.miss = summary_of(audit.steps, floor.relative_error, is_miss);
+  floor.live = summary_of(audit.steps, floor.relative_error, is_live);
+  floor.cached = summary_of(audit.steps, floor.relative_error, is_cached);
+  floor.all = summary_of(audit.steps, floor.relative_error, is_any);
+  return floor;
 }
 
 }  // namespace grainbank::mpm::audit

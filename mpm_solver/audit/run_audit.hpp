@@ -46,4 +46,18 @@ struct ReferenceSlot {
 // std::runtime_error naming the point, step and time when a reference cell fails.
 RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlot(std::uint32_t)>& reference_of);
 
+// The audit's noise floor: what two live cells of one recipe differ by along the same histories.
+// Every point of `trail` is re-run a second time by a live cell of another packing (`other_of`, the
+// same material and size prepared with another seed), and at every step that cell's stress is
+// compared with the first reference's by the formula and stress floor of `audit`. A run error at
+// this floor is as close to live as live is to itself (README, "Accuracy ... against the noise floor").
+struct NoiseFloor {
+  std::vector<PointStress> other;  // the other packing's stress, parallel to audit.steps
+  std::vector<double> relative_error;  // ‖σ_other − σ_live‖_F / max(‖σ_live‖_F, audit.stress_floor)
+  grainbank::audit::ErrorSummary hit, miss, live, cached, all;  // by the source of the run's step
+};
+
+NoiseFloor noise_floor(const io::AuditTrail& trail, const RunAudit& audit,
+                       const std::function<ReferenceSlot(std::uint32_t)>& other_of);
+
 }  // namespace grainbank::mpm::audit

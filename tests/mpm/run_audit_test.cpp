@@ -58,7 +58,23 @@ class RunAudit : public ::testing::Test {
   }
   nlohmann::json audit(const std::string& name) {
     std::ostringstream text;
-    return run_audit_command({dir_.path() / name, false}, text);
+    return run_audit_command({dir_.path() / name, false, {}}, text);
+  }
+  nlohmann::json audit_with_floor(const std::string& name, const fs::path& floor_cell) {
+    std::ostringstream text;
+    return run_audit_command({dir_.path() / name, false, floor_cell}, text);
+  }
+  // The recipe of the library's template (dem::snow_material, dem::snow_preparation(20, 9)) as a
+  // cell.json, with another seed, size or friction.
+  fs::path recipe(const std::string& name, int seed, int spheres = 20, double friction = 0.2) {
+    std::ostringstream s;
+    s << R"({"material": {"density": 920, "k_n": 2000, "k_t": 600, "restitution": 0.3, "friction": )" << friction
+      << R"(, "contact_weight": 0.5, "bond": {"tensile_strength": 8e-4, "shear_strength": 9.6e-4, "exponent": 2,
+              "bonding_distance": 0.05}},
+        "effects": {"cohesion": true},
+        "preparation": {"spheres": )" << spheres << R"(, "diameter": {"min": 3.4e-4, "max": 4.0e-4}, "pressure": 1000,
+                        "seed": )" << seed << R"(, "inertial_number": 0.01}})";
+    return dir_.write(name + ".json", s.str());
   }
   std::string library_material(const std::string& law, const std::string& extra = "") const {
     return R"("law": ")" + law + R"(", "library": ")" + library_.string() + R"(", "template": )" +
@@ -135,6 +151,42 @@ TEST_F(RunAudit, ACacheRunIsComparedAtEveryCachedPointStepAndRecordedInTheCatalo
   EXPECT_EQ(details["kind"], "mpm_run");
   EXPECT_EQ(details["cached"], s["cached"]);
   EXPECT_EQ(s["catalogue_rows"][0]["audit_id"], rows[1].id);
+}
+
+TEST_F(RunAudit, TheNoiseFloorIsZeroForTheSamePackingAndPositiveForAnother) {
+  run(library_material("live"), 3, "live");
+  // The reference's own recipe and seed: the same cell, so the floor vanishes at every step.
+  const nlohmann::json same = audit_with_floor("live", recipe("seed9", 9));
+  EXPECT_EQ(same["noise_floor"]["all"]["count"], 3 * kSteps);
+  EXPECT_EQ(same["noise_floor"]["all"]["max"].get<double>(), 0.0);
+  // Another packing of the recipe answers the same histories differently; the live run is its own
+  // reference, so it lies below that floor.
+  const nlohmann::json other = audit_with_floor("live", recipe("seed10", 10));
+  const nlohmann::json& floor = other["noise_floor"];
+  EXPECT_EQ(floor["by_source"]["live"]["count"], 3 * kSteps);
+  EXPECT_GT(floor["all"]["median"].get<double>(), 0.0);
+  EXPECT_TRUE(std::isfinite(floor["all"]["max"].get<double>()));
+  EXPECT_EQ(other["all"]["max"].get<double>(), 0.0);
+  EXPECT_EQ(other["stress_floor_pa"], same["stress_floor_pa"]);  // the floor cell does not move the reference
+  std::ifstream csv(dir_.path() / "live" / "audit" / "run_audit_steps.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",floor_relative_error,other_sxx,other_syy,other_sxy,other_szz"), std::string::npos) << header;
+
+  // A cell of another material or size would measure that, not the packing: refused, naming it.
+  for (const auto& [cell, expected] :
+       {std::pair{recipe("friction", 10, 20, 0.3), std::string("contact.friction")},
+        std::pair{recipe("bigger", 10, 24), std::string("preparation.spheres: expected 20")}}) {
+    try {
+      audit_with_floor("live", cell);
+      FAIL() << "took " << cell << " as the floor";
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(cell.string()), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+  // The audit written before the refusals is still there.
+  EXPECT_EQ(common::load_json_file(dir_.path() / "live" / "audit" / "run_audit.json")["noise_floor"], floor);
 }
 
 TEST_F(RunAudit, RunsThatCannotBeAuditedAreRefusedWithTheRemedy) {
