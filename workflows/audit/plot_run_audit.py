@@ -1,6 +1,8 @@
 """Figures of an `mpm_solver audit RUN`: reads RUN/audit/run_audit.json and run_audit_steps.csv, writes
 (into RUN/audit, or FIGURES when given) run_audit_error_vs_time.png (the relative stress error of every audited point over time, marked by what
-answered the run: library hit, miss, live cell) and run_audit_histogram.png (the errors per source).
+answered the run: library hit, miss, live cell) and run_audit_histogram.png (the errors per source). An
+audit run with --floor-cell adds its noise floor: the median error of the other packing's cell over
+time, and its histogram.
 
 Usage: /usr/bin/python3 workflows/audit/plot_run_audit.py RUN/audit [FIGURES]   (python3-matplotlib on Debian)
 """
@@ -17,13 +19,25 @@ SOURCES = [("hit", "library hit", "tab:blue"), ("miss", "library miss", "tab:red
 
 
 def read_steps(path):
-    """point id → list of (time, source, relative error)."""
-    points = {}
+    """point id → list of (time, source, relative error); and the noise floor's (time, error), if any."""
+    points, noise = {}, []
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
             points.setdefault(int(row["point"]), []).append(
                 (float(row["time"]), row["source"], float(row["relative_error"])))
-    return points
+            if row.get("floor_relative_error"):
+                noise.append((float(row["time"]), float(row["floor_relative_error"])))
+    return points, noise
+
+
+def median_over_time(samples, bins=30):
+    """(bin centre, median error) of `samples` in equal time bins."""
+    t0, t1 = min(t for t, _ in samples), max(t for t, _ in samples)
+    width = (t1 - t0) / bins or 1.0
+    binned = {}
+    for t, e in samples:
+        binned.setdefault(min(int((t - t0) / width), bins - 1), []).append(e)
+    return [(t0 + (k + 0.5) * width, sorted(v)[len(v) // 2]) for k, v in sorted(binned.items())]
 
 
 def floor_of(points):
@@ -32,7 +46,7 @@ def floor_of(points):
     return min(errors) / 10 if errors else 1e-16
 
 
-def error_vs_time(points, summary, out):
+def error_vs_time(points, noise, summary, out):
     floor = floor_of(points)
     fig, ax = plt.subplots(figsize=(7, 4.2), layout="constrained")
     for steps in points.values():
@@ -41,6 +55,10 @@ def error_vs_time(points, summary, out):
         xy = [(t, max(e, floor)) for steps in points.values() for t, s, e in steps if s == source]
         if xy:
             ax.scatter(*zip(*xy), s=4, color=colour, label=f"{label}: {len(xy)} point-steps", zorder=2)
+    if noise:
+        line = median_over_time(noise)
+        ax.plot([t for t, _ in line], [max(e, floor) for _, e in line], color="black", lw=1.5, zorder=3,
+                label="noise floor (cell of another packing seed), median")
     ax.set_yscale("log")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("relative stress error vs live cell")
@@ -53,10 +71,12 @@ def error_vs_time(points, summary, out):
     plt.close(fig)
 
 
-def histogram(points, out):
-    log_histogram(out, [([e for steps in points.values() for _, s, e in steps if s == source], label, colour)
-                        for source, label, colour in SOURCES],
-                  "relative stress error |σ_run − σ_live| / max(|σ_live|, floor)", "point-steps")
+def histogram(points, noise, out):
+    series = [([e for steps in points.values() for _, s, e in steps if s == source], label, colour)
+              for source, label, colour in SOURCES]
+    if noise:
+        series.append(([e for _, e in noise], "noise floor (another packing)", "black"))
+    log_histogram(out, series, "relative stress error |σ_run − σ_live| / max(|σ_live|, floor)", "point-steps")
 
 
 def main():
@@ -67,12 +87,12 @@ def main():
     figures.mkdir(parents=True, exist_ok=True)
     try:
         summary = json.loads((directory / "run_audit.json").read_text())
-        points = read_steps(directory / "run_audit_steps.csv")
+        points, noise = read_steps(directory / "run_audit_steps.csv")
     except (OSError, ValueError, KeyError) as e:
         sys.exit(f"plot_run_audit.py: {directory}: not an mpm_solver audit directory: {e}")
     outputs = [figures / "run_audit_error_vs_time.png", figures / "run_audit_histogram.png"]
-    error_vs_time(points, summary, outputs[0])
-    histogram(points, outputs[1])
+    error_vs_time(points, noise, summary, outputs[0])
+    histogram(points, noise, outputs[1])
     print("wrote " + ", ".join(str(p) for p in outputs), file=sys.stderr)
 
 

@@ -50,6 +50,9 @@ def summarise(out, timestamps):
         a = json.loads(audit.read_text())
         report["audit"] = {"points": len(a["points"]), "steps_compared": a["steps_compared"],
                            "cached": a["cached"], "live": a["by_source"]["live"]}
+        if "noise_floor" in a:
+            report["audit"]["noise_floor"] = {"cached": a["noise_floor"]["cached"],
+                                              "live": a["noise_floor"]["by_source"]["live"]}
     if timestamps:
         start, library_done, run_done, audit_done = timestamps
         report["wall_time_s"].update({"library": library_done - start, "run_total": run_done - library_done,
@@ -61,9 +64,15 @@ def audit_lines(audit):
     if not audit:
         return []
     c, live = audit["cached"], audit["live"]
-    return [f"  audit (mpm_solver audit run): {audit['points']} points re-run by live cells; relative stress error "
-            f"of the {c['count']} cached point-steps: median {c['median']:.3g}, p95 {c['p95']:.3g}, max {c['max']:.3g}; "
-            f"of the {live['count']} live point-steps (warm-started cells): median {live['median']:.3g}"]
+    lines = [f"  audit (mpm_solver audit run): {audit['points']} points re-run by live cells; relative stress error "
+             f"of the {c['count']} cached point-steps: median {c['median']:.3g}, p95 {c['p95']:.3g}, max {c['max']:.3g}; "
+             f"of the {live['count']} live point-steps (warm-started cells): median {live['median']:.3g}"]
+    if "noise_floor" in audit:
+        fc, fl = audit["noise_floor"]["cached"], audit["noise_floor"]["live"]
+        lines.append(f"  noise floor (the same histories re-run by a cell of another packing seed): median "
+                     f"{fc['median']:.3g}, p95 {fc['p95']:.3g} on the cached point-steps; median {fl['median']:.3g} "
+                     "on the live ones")
+    return lines
 
 
 def text(report, figures):

@@ -27,9 +27,12 @@ rm -rf "$out/run"
 "$build/database/celldb" info "$out/lib" --json > "$out/library.json"
 run_done=$(seconds)
 
-# The scene records a few points' histories ("audit"): re-run them with live cells and compare.
+# The scene records a few points' histories ("audit"): re-run them with live cells and compare, and
+# with cells of another packing seed (the audit's noise floor: what two live cells differ by).
 echo "== audit of the run against live cells -> $out/run/audit"
-"$build/mpm_solver/mpm_solver" audit "$out/run" --threads "$threads" > "$out/run_audit.txt"
+"$python" -c 'import json, sys; c = json.load(open(sys.argv[1])); c["preparation"]["seed"] += 1000; json.dump(c, open(sys.argv[2], "w"), indent=2)' \
+  "$here/cell_soft_snow_250.json" "$out/floor_cell.json"
+"$build/mpm_solver/mpm_solver" audit "$out/run" --threads "$threads" --floor-cell "$out/floor_cell.json" > "$out/run_audit.txt"
 "$python" "$here/../audit/plot_run_audit.py" "$out/run/audit" "$out/figures" 2> /dev/null
 audit_done=$(seconds)
 
