@@ -49,6 +49,11 @@ class DemoTest(WorkflowTest):
         self.assertEqual(report["audit"]["steps_compared"], 60)
         sources = audit["by_source"]
         self.assertEqual(sum(sources[s]["count"] for s in ("hit", "miss", "live")), 60)
+        # ... and again with a cell of another packing seed: the noise floor, positive since the two
+        # packings differ, and in the report.
+        self.assertEqual(audit["noise_floor"]["all"]["count"], 60)
+        self.assertGreater(audit["noise_floor"]["all"]["max"], 0)
+        self.assertIn("noise floor", (self.out / "report.txt").read_text())
 
         second = self.run_demo()
         self.assertIn("template 1 (already in the library)", second)
