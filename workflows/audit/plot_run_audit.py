@@ -2,7 +2,8 @@
 (into RUN/audit, or FIGURES when given) run_audit_error_vs_time.png (the relative stress error of every audited point over time, marked by what
 answered the run: library hit, miss, live cell) and run_audit_histogram.png (the errors per source). An
 audit run with --floor-cell adds its noise floor: the median error of the other packing's cell over
-time, and its histogram.
+time, its histogram, and run_audit_by_time.csv (in 6 equal time windows: the cached point-steps'
+median error and the floor's median on the same steps).
 
 Usage: /usr/bin/python3 workflows/audit/plot_run_audit.py RUN/audit [FIGURES]   (python3-matplotlib on Debian)
 """
@@ -19,15 +20,39 @@ SOURCES = [("hit", "library hit", "tab:blue"), ("miss", "library miss", "tab:red
 
 
 def read_steps(path):
-    """point id → list of (time, source, relative error); and the noise floor's (time, error), if any."""
+    """point id → list of (time, source, relative error); and the noise floor's (time, source, error), if any."""
     points, noise = {}, []
     with open(path, newline="") as f:
         for row in csv.DictReader(f):
             points.setdefault(int(row["point"]), []).append(
                 (float(row["time"]), row["source"], float(row["relative_error"])))
             if row.get("floor_relative_error"):
-                noise.append((float(row["time"]), float(row["floor_relative_error"])))
+                noise.append((float(row["time"]), row["source"], float(row["floor_relative_error"])))
     return points, noise
+
+
+def by_time(points, noise, out, windows=6):
+    """The cached point-steps' median error and the floor's on the same steps, per time window."""
+    cached = [(t, e) for steps in points.values() for t, s, e in steps if s in ("hit", "miss")]
+    floor = [(t, e) for t, s, e in noise if s in ("hit", "miss")]
+    if not cached:
+        return
+    t0 = min(t for steps in points.values() for t, _, _ in steps)
+    t1 = max(t for steps in points.values() for t, _, _ in steps)
+    width = (t1 - t0) / windows or 1.0
+    with open(out, "w", newline="") as f:
+        writer = csv.writer(f)
+        writer.writerow(["t_start", "t_end", "cached_steps", "cached_median", "floor_median", "cached_over_floor"])
+        for k in range(windows):
+            lo, hi = t0 + k * width, t0 + (k + 1) * width
+            inside = lambda t: lo <= t < hi or (k == windows - 1 and t == hi)  # noqa: E731
+            run = sorted(e for t, e in cached if inside(t))
+            ref = sorted(e for t, e in floor if inside(t))
+            if not run:
+                continue
+            run_median, floor_median = run[len(run) // 2], ref[len(ref) // 2]
+            writer.writerow([f"{lo:.4g}", f"{hi:.4g}", len(run), f"{run_median:.3g}", f"{floor_median:.3g}",
+                             f"{run_median / floor_median:.3g}" if floor_median > 0 else ""])
 
 
 def median_over_time(samples, bins=30):
@@ -56,7 +81,7 @@ def error_vs_time(points, noise, summary, out):
         if xy:
             ax.scatter(*zip(*xy), s=4, color=colour, label=f"{label}: {len(xy)} point-steps", zorder=2)
     if noise:
-        line = median_over_time(noise)
+        line = median_over_time([(t, e) for t, _, e in noise])
         ax.plot([t for t, _ in line], [max(e, floor) for _, e in line], color="black", lw=1.5, zorder=3,
                 label="noise floor (cell of another packing seed), median")
     ax.set_yscale("log")
@@ -75,7 +100,7 @@ def histogram(points, noise, out):
     series = [([e for steps in points.values() for _, s, e in steps if s == source], label, colour)
               for source, label, colour in SOURCES]
     if noise:
-        series.append(([e for _, e in noise], "noise floor (another packing)", "black"))
+        series.append(([e for _, _, e in noise], "noise floor (another packing)", "black"))
     log_histogram(out, series, "relative stress error |σ_run − σ_live| / max(|σ_live|, floor)", "point-steps")
 
 
@@ -93,6 +118,9 @@ def main():
     outputs = [figures / "run_audit_error_vs_time.png", figures / "run_audit_histogram.png"]
     error_vs_time(points, noise, summary, outputs[0])
     histogram(points, noise, outputs[1])
+    if noise:
+        outputs.append(figures / "run_audit_by_time.csv")
+        by_time(points, noise, outputs[-1])
     print("wrote " + ", ".join(str(p) for p in outputs), file=sys.stderr)
 
 
