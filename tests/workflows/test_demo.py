@@ -54,6 +54,20 @@ class DemoTest(WorkflowTest):
         self.assertEqual(audit["noise_floor"]["all"]["count"], 60)
         self.assertGreater(audit["noise_floor"]["all"]["max"], 0)
         self.assertIn("noise floor", (self.out / "report.txt").read_text())
+        # Element tests of the demo's law on its library, against the same floor cell.
+        run(["/usr/bin/python3", WORKFLOWS / "audit" / "element_tests.py", self.out / "elements", "--library",
+             self.out / "lib", "--floor-cell", self.out / "floor_cell.json", "--loadings", "oedometric", "unloading",
+             "--strain", "2e-4", "--build", BUILD])
+        elements = json.loads((self.out / "elements" / "element_tests.json").read_text())
+        self.assertEqual([row["loading"] for row in elements["loadings"]], ["oedometric", "unloading"])
+        for row in elements["loadings"]:
+            self.assertEqual(row["steps"], 20)  # 2e-4 at |D| = 0.1 /s in steps of 1e-4 s
+            self.assertGreater(row["floor_median"], 0)
+            self.assertTrue(0 <= row["error_median"] <= row["error_p95"] < float("inf"))
+        # Oedometric compression compresses along y in every cell.
+        oedometric = elements["loadings"][0]
+        for stress in ("final_run_Pa", "final_live_Pa", "final_floor_cell_Pa"):
+            self.assertLess(oedometric[stress][1], -200)
 
         second = self.run_demo()
         self.assertIn("template 1 (already in the library)", second)
