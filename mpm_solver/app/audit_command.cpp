@@ -104,6 +104,14 @@ std::function<audit::ReferenceSlot(std::uint32_t)> slots_in(Solver& solver, cons
   };
 }
 
+// {"by_source": {"hit", "miss", "live"}, "cached", "all"}: the layout of the summary and of its noise floor.
+nlohmann::json summaries_json(const audit::SourceSummaries& e) {
+  using grainbank::audit::summary_of;
+  return {{"by_source", {{"hit", summary_of(e.hit)}, {"miss", summary_of(e.miss)}, {"live", summary_of(e.live)}}},
+          {"cached", summary_of(e.cached)},
+          {"all", summary_of(e.all)}};
+}
+
 // The libraries of the scene's materials, each once.
 std::set<std::string> libraries_of(const nlohmann::json& scene) {
   std::set<std::string> out;
@@ -121,7 +129,7 @@ void write_steps_csv(const audit::RunAudit& audit, const std::optional<audit::No
                      const std::filesystem::path& file) {
   std::ofstream out(file);
   out << "point,step,time,source,relative_error,run_sxx,run_syy,run_sxy,run_szz,live_sxx,live_syy,live_sxy,live_szz";
-  if (floor) out << ",floor_relative_error,other_sxx,other_syy,other_sxy,other_szz";
+  if (floor) out << ",noise_floor_relative_error,other_sxx,other_syy,other_sxy,other_szz";
   out << '\n' << std::setprecision(17);
   for (std::size_t i = 0; i < audit.steps.size(); ++i) {
     const audit::StepComparison& c = audit.steps[i];
@@ -189,19 +197,12 @@ nlohmann::json run_audit_command(const AuditCommandOptions& options, std::ostrea
                             {"points", nlohmann::json::array()},
                             {"steps_compared", audit.steps.size()},
                             {"stress_floor_pa", audit.stress_floor},
-                            {"by_source", {{"hit", grainbank::audit::summary_of(audit.hit)},
-                                           {"miss", grainbank::audit::summary_of(audit.miss)},
-                                           {"live", grainbank::audit::summary_of(audit.live)}}},
-                            {"cached", grainbank::audit::summary_of(audit.cached)},
-                            {"all", grainbank::audit::summary_of(audit.all)},
                             {"outputs", {{"directory", std::filesystem::absolute(directory).string()}}}};
-  if (floor)
-    summary["noise_floor"] = {{"cell", std::filesystem::absolute(*options.floor_cell).string()},
-                              {"by_source", {{"hit", grainbank::audit::summary_of(floor->hit)},
-                                             {"miss", grainbank::audit::summary_of(floor->miss)},
-                                             {"live", grainbank::audit::summary_of(floor->live)}}},
-                              {"cached", grainbank::audit::summary_of(floor->cached)},
-                              {"all", grainbank::audit::summary_of(floor->all)}};
+  summary.update(summaries_json(audit.errors));
+  if (floor) {
+    summary["noise_floor"] = summaries_json(floor->errors);
+    summary["noise_floor"]["cell"] = std::filesystem::absolute(*options.floor_cell).string();
+  }
   for (const io::PointTrail& p : trail.points) summary["points"].push_back(p.id);
   write_steps_csv(audit, floor, directory / "run_audit_steps.csv");
   nlohmann::json audit_ids = nlohmann::json::array();

@@ -79,6 +79,12 @@ stats::ErrorSummary summary_of(const std::vector<StepComparison>& steps, const s
   return stats::summarize(chosen);
 }
 
+// `errors`, parallel to `steps`, summarized by each step's source.
+SourceSummaries by_source(const std::vector<StepComparison>& steps, const std::vector<double>& errors) {
+  return {summary_of(steps, errors, is_hit), summary_of(steps, errors, is_miss), summary_of(steps, errors, is_live),
+          summary_of(steps, errors, is_cached), summary_of(steps, errors, is_any)};
+}
+
 }  // namespace
 
 RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlot(std::uint32_t)>& reference_of) {
@@ -92,11 +98,7 @@ RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlo
     c.relative_error = stats::relative_stress_error(stress6(c.run), stress6(c.live), audit.stress_floor);
     errors.push_back(c.relative_error);
   }
-  audit.hit = summary_of(audit.steps, errors, is_hit);
-  audit.miss = summary_of(audit.steps, errors, is_miss);
-  audit.live = summary_of(audit.steps, errors, is_live);
-  audit.cached = summary_of(audit.steps, errors, is_cached);
-  audit.all = summary_of(audit.steps, errors, is_any);
+  audit.errors = by_source(audit.steps, errors);
   return audit;
 }
 
@@ -109,11 +111,7 @@ NoiseFloor noise_floor(const io::AuditTrail& trail, const RunAudit& audit,
     floor.relative_error.push_back(
         stats::relative_stress_error(stress6(other[i].live), stress6(audit.steps[i].live), audit.stress_floor));
   }
-  floor.hit = summary_of(audit.steps, floor.relative_error, is_hit);
-  floor.miss = summary_of(audit.steps, floor.relative_error, is_miss);
-  floor.live = summary_of(audit.steps, floor.relative_error, is_live);
-  floor.cached = summary_of(audit.steps, floor.relative_error, is_cached);
-  floor.all = summary_of(audit.steps, floor.relative_error, is_any);
+  floor.errors = by_source(audit.steps, floor.relative_error);
   return floor;
 }
 

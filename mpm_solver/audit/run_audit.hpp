@@ -30,10 +30,16 @@ struct StepComparison {
   double relative_error = 0;
 };
 
+// Error summaries of point-steps by what answered the run: a hit, a miss, a live cell, cached (hit or
+// miss) and all.
+struct SourceSummaries {
+  grainbank::audit::ErrorSummary hit, miss, live, cached, all;
+};
+
 struct RunAudit {
   std::vector<StepComparison> steps;  // point by point, in step order
   double stress_floor = 0;            // [Pa]
-  grainbank::audit::ErrorSummary hit, miss, live, cached, all;
+  SourceSummaries errors;
 };
 
 // A live law and a slot of it at the template state that nothing else uses: where a point is re-run.
@@ -49,12 +55,12 @@ RunAudit audit_run(const io::AuditTrail& trail, const std::function<ReferenceSlo
 // The audit's noise floor: what two live cells of one recipe differ by along the same histories.
 // Every point of `trail` is re-run a second time by a live cell of another packing (`other_of`, the
 // same material and size prepared with another seed), and at every step that cell's stress is
-// compared with the first reference's by the formula and stress floor of `audit`. A run error at
-// this floor is as close to live as live is to itself (README, "Accuracy ... against the noise floor").
+// compared with the first reference's by the formula and stress floor of `audit`. A run whose errors
+// are at this floor is as close to its reference as another packing of the same cell is.
 struct NoiseFloor {
-  std::vector<PointStress> other;  // the other packing's stress, parallel to audit.steps
+  std::vector<PointStress> other;      // the other packing's stress, parallel to audit.steps
   std::vector<double> relative_error;  // ‖σ_other − σ_live‖_F / max(‖σ_live‖_F, audit.stress_floor)
-  grainbank::audit::ErrorSummary hit, miss, live, cached, all;  // by the source of the run's step
+  SourceSummaries errors;              // by the source of the run's step
 };
 
 NoiseFloor noise_floor(const io::AuditTrail& trail, const RunAudit& audit,

@@ -171,7 +171,7 @@ TEST_F(RunAudit, TheNoiseFloorIsZeroForTheSamePackingAndPositiveForAnother) {
   std::ifstream csv(dir_.path() / "live" / "audit" / "run_audit_steps.csv");
   std::string header;
   std::getline(csv, header);
-  EXPECT_NE(header.find(",floor_relative_error,other_sxx,other_syy,other_sxy,other_szz"), std::string::npos) << header;
+  EXPECT_NE(header.find(",noise_floor_relative_error,other_sxx,other_syy,other_sxy,other_szz"), std::string::npos) << header;
 
   // A cell of another material or size would measure that, not the packing: refused, naming it.
   for (const auto& [cell, expected] :

@@ -26,8 +26,8 @@ def read_steps(path):
         for row in csv.DictReader(f):
             points.setdefault(int(row["point"]), []).append(
                 (float(row["time"]), row["source"], float(row["relative_error"])))
-            if row.get("floor_relative_error"):
-                noise.append((float(row["time"]), row["source"], float(row["floor_relative_error"])))
+            if row.get("noise_floor_relative_error"):
+                noise.append((float(row["time"]), row["source"], float(row["noise_floor_relative_error"])))
     return points, noise
 
 
