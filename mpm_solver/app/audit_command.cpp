@@ -72,7 +72,7 @@ void check_floor_cell(const std::filesystem::path& file, const nlohmann::json& s
     if (m.contains("library")) {
       db::Library library = db::Library::open(m["library"].get<std::string>());
       material = library.material();
-      spheres = library.restore(library.template_cell(m["template"].get<std::int64_t>())).size();
+      spheres = static_cast<std::size_t>(library.catalogue().template_row(m["template"].get<std::int64_t>()).spheres);
     } else {
       const grainbank::app::CellInput reference = grainbank::app::load_cell_input(m["cell"].get<std::string>());
       material = reference.material;

@@ -197,9 +197,8 @@ namespace {
 // since its last live spell [Pa], live cell started by replay (0/1), live spell started by the
 // budget (0/1); live cells as "cell_<slot>"; the replay histories as append_history writes them;
 // the learned samples as rows features, answer, origin path, origin record, in insertion order;
-// per kept cell: slot and
-// the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per checkpoint: slot and
-// the increments it has seen, the cell as "checkpoint_<slot>".
+// per kept cell: slot and the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per
+// checkpoint: slot and the increments it has seen, the cell as "checkpoint_<slot>".
 constexpr std::size_t kStateColumns = 12;
 constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;

@@ -20,6 +20,7 @@ the share of live point-steps, and the final in-plane stress of the run, the ref
 cell. The runs stay in OUT/runs/NAME (each with its audit/).
 """
 import argparse
+import csv
 import json
 import math
 import subprocess
@@ -67,7 +68,6 @@ def scene(args, loading):
 
 def final_stresses(steps_csv):
     """The last compared step's in-plane stress (xx, yy, xy) of the run, the reference and the floor cell."""
-    import csv
     with open(steps_csv, newline="") as f:
         last = list(csv.DictReader(f))[-1]
     return {who: [round(float(last[f"{who}_{c}"]), 1) for c in ("sxx", "syy", "sxy")] for who in ("run", "live", "other")}

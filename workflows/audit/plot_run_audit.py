@@ -31,6 +31,20 @@ def read_steps(path):
     return points, noise
 
 
+def median(values):
+    return sorted(values)[len(values) // 2]
+
+
+def binned(samples, t0, t1, bins):
+    """The errors of (time, error) `samples` in `bins` equal windows of [t0, t1]: window → errors, and
+    the window width."""
+    width = (t1 - t0) / bins or 1.0
+    windows = {}
+    for t, e in samples:
+        windows.setdefault(min(int((t - t0) / width), bins - 1), []).append(e)
+    return windows, width
+
+
 def by_time(points, noise, out, windows=6):
     """The cached point-steps' median error and the floor's on the same steps, per time window."""
     cached = [(t, e) for steps in points.values() for t, s, e in steps if s in ("hit", "miss")]
@@ -39,30 +53,22 @@ def by_time(points, noise, out, windows=6):
         return
     t0 = min(t for steps in points.values() for t, _, _ in steps)
     t1 = max(t for steps in points.values() for t, _, _ in steps)
-    width = (t1 - t0) / windows or 1.0
+    run, width = binned(cached, t0, t1, windows)
+    ref, _ = binned(floor, t0, t1, windows)  # the same steps: every window of `run` is in `ref`
     with open(out, "w", newline="") as f:
         writer = csv.writer(f)
         writer.writerow(["t_start", "t_end", "cached_steps", "cached_median", "floor_median", "cached_over_floor"])
-        for k in range(windows):
-            lo, hi = t0 + k * width, t0 + (k + 1) * width
-            inside = lambda t: lo <= t < hi or (k == windows - 1 and t == hi)  # noqa: E731
-            run = sorted(e for t, e in cached if inside(t))
-            ref = sorted(e for t, e in floor if inside(t))
-            if not run:
-                continue
-            run_median, floor_median = run[len(run) // 2], ref[len(ref) // 2]
-            writer.writerow([f"{lo:.4g}", f"{hi:.4g}", len(run), f"{run_median:.3g}", f"{floor_median:.3g}",
-                             f"{run_median / floor_median:.3g}" if floor_median > 0 else ""])
+        for k in sorted(run):
+            run_median, floor_median = median(run[k]), median(ref[k])
+            writer.writerow([f"{t0 + k * width:.4g}", f"{t0 + (k + 1) * width:.4g}", len(run[k]), f"{run_median:.3g}",
+                             f"{floor_median:.3g}", f"{run_median / floor_median:.3g}" if floor_median > 0 else ""])
 
 
 def median_over_time(samples, bins=30):
     """(bin centre, median error) of `samples` in equal time bins."""
     t0, t1 = min(t for t, _ in samples), max(t for t, _ in samples)
-    width = (t1 - t0) / bins or 1.0
-    binned = {}
-    for t, e in samples:
-        binned.setdefault(min(int((t - t0) / width), bins - 1), []).append(e)
-    return [(t0 + (k + 0.5) * width, sorted(v)[len(v) // 2]) for k, v in sorted(binned.items())]
+    windows, width = binned(samples, t0, t1, bins)
+    return [(t0 + (k + 0.5) * width, median(v)) for k, v in sorted(windows.items())]
 
 
 def floor_of(points):
