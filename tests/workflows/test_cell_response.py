@@ -54,3 +54,21 @@ class CellResponseTest(WorkflowTest):
         self.assertTrue(10 < friction_angle < 45, friction_angle)
         self.assertGreater(result["sin"]["friction_angle"], friction_angle)  # asin μ > atan μ
         self.assert_png(self.out / "strength.png")
+
+    def test_unconfined_compression_of_the_bonded_cell(self):
+        """Free sides hold σ_xx at zero while the platens load σ_yy; the bonds then break at once (a brittle
+        peak, the stress falling away), and limit analysis turns q_u into the two bounds on a cut's height
+        in the ratio of their N_s."""
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "unconfined.py", self.out, "--build", BUILD,
+             "--cell", WORKFLOWS / "demo" / "cell_soft_snow_125.json", "--cell-size", "0.025",
+             "--strain-rate", "0.1", "--strain", "0.008"])
+        result = json.loads((self.out / "unconfined.json").read_text())
+        q_u = result["q_u"]
+        self.assertGreater(q_u, 200, "above the cell's preparation pressure: the platen loaded it")
+        self.assertLess(abs(result["lateral_at_peak"]), 0.05 * q_u, "unconfined: σ_xx stays near zero")
+        self.assertLess(result["after_peak"], 0.2 * q_u, "the bonds break and the strength falls away")
+        self.assertGreater(result["rows"][-1]["damage"], result["damage_at_peak"] + 0.1)
+        bounds = result["critical_height"]
+        self.assertAlmostEqual(bounds["Culmann (N_s = 4)"] / bounds["Chen (N_s = 3.83)"], 4 / 3.83)
+        self.assertAlmostEqual(bounds["Chen (N_s = 3.83)"], 1.915 * q_u / (result["density"] * 9.81), places=6)
+        self.assert_png(self.out / "unconfined.png")

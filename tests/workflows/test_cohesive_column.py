@@ -17,3 +17,58 @@ class CohesiveColumnTest(WorkflowTest):
         self.assertLess(strong["front"], result["standing"], "at twice the bound it stands")
         self.assertEqual(result["thresholds"]["10"], {"fell_at": 0.1, "stood_at": 0.3})
         self.assert_png(self.out / "stability.png")
+
+
+class LiveThresholdTest(WorkflowTest):
+    """The two-scale column (workflows/cohesive_column/live_threshold.py): the unconfined strength of the
+    two-scale material (workflows/cell_response/unconfined.py) predicts the highest vertical cut that
+    stands; with live cells a column well below it stands, and one of a far weaker cell, well above
+    that cell's own, falls."""
+
+    CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
+
+    def unconfined(self, cell, name):
+        """unconfined.json of the coarse test on `cell`."""
+        out = self.out / name
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "unconfined.py", out, "--build", BUILD, "--cell", cell,
+             "--cell-size", "0.025", "--strain-rate", "0.1", "--strain", "0.008"])
+        return out / "unconfined.json"
+
+    def threshold(self, cell, prediction, *options):
+        """The study's one run of `options`, from its live_threshold.json."""
+        run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "live_threshold.py", self.out / "live",
+             "--unconfined", prediction, "--build", BUILD, "--threads", "1", "--cell", cell, "--width", "0.1",
+             "--cell-size", "0.05", "--watch", "1", *options])
+        result = json.loads((self.out / "live" / "live_threshold.json").read_text())
+        (row,) = [r for r in result["runs"] if r["cell"] == str(cell.resolve())]
+        (predicted,) = row["predicted"].values()
+        return row, predicted
+
+    def test_stands_well_below_the_critical_height_and_falls_well_above(self):
+        prediction = self.unconfined(self.CELL, "strong")
+        critical = json.loads(prediction.read_text())["critical_height"]["Chen (N_s = 3.83)"]
+        short, predicted = self.threshold(self.CELL, prediction, "--heights", f"{critical / 3:.3f}")
+        self.assertEqual(predicted, "stand")
+        self.assertTrue(short["stands"], short)
+
+        weak = json.loads(self.CELL.read_text())
+        for strength in ("tensile_strength", "shear_strength"):
+            weak["material"]["bond"][strength] *= 0.02
+        weak_cell = self.out / "weak_cell.json"
+        weak_cell.write_text(json.dumps(weak))
+        weak_prediction = self.unconfined(weak_cell, "weak")
+        self.assertLess(json.loads(weak_prediction.read_text())["critical_height"]["Chen (N_s = 3.83)"], 0.1)
+        tall, predicted = self.threshold(weak_cell, weak_prediction, "--heights", "0.2")
+        self.assertEqual(predicted, "fall")
+        self.assertFalse(tall["stands"], tall)
+        self.assertGreater(tall["top_drop"], 0, "the top sinks as the column falls")
+        self.assert_png(self.out / "live" / "live_threshold.png")
+
+    def test_refuses_the_prediction_of_another_cell(self):
+        other = {"cell": str(WORKFLOWS / "demo" / "cell_soft_snow_250.json"), "q_u": 1000.0,
+                 "critical_height": {"Chen (N_s = 3.83)": 0.3}}
+        (self.out / "other.json").write_text(json.dumps(other))
+        with self.assertRaises(AssertionError) as refused:
+            self.threshold(self.CELL, self.out / "other.json", "--heights", "0.05")
+        self.assertIn(f"{self.out / 'other.json'}: field 'cell'", str(refused.exception))
+        self.assertFalse((self.out / "live" / "runs").exists(), "nothing is run for a prediction of another cell")

@@ -19,6 +19,10 @@ log-spiral mechanism), the threshold workflows/cohesive_column checks the MPM ag
 cut of this material that stands is H_c = H0 Co / Co_c.
 
   /usr/bin/python3 strength.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--pressures 250 500 1000 2000 4000 8000]
+                               [--cell CELL.json] [--column SCENE.json]
+
+--cell and --column test another cell against another column (the first region's rectangle), e.g. the
+demo's soft cell (workflows/demo/cell_soft_snow_250.json) against the demo's column.
 
 Writes OUT/strength.csv (one row per seed and P), OUT/strength.md and OUT/strength.png.
 """
@@ -44,9 +48,9 @@ G = 9.81
 CHEN_N_S = 3.83  # γ H_c / c = N_s tan(45° + φ/2), Chen (1975), a vertical cut
 
 
-def shear_test(build, folder, seed, pressure):
+def shear_test(build, cell_file, folder, seed, pressure):
     folder.mkdir(parents=True, exist_ok=True)
-    cell = json.loads(CELL.read_text())
+    cell = json.loads(cell_file.read_text())
     cell["preparation"]["seed"] = seed
     (folder / "cell.json").write_text(json.dumps(cell))
     out = folder / f"p{pressure:g}.csv"
@@ -81,8 +85,8 @@ def critical_cohesion_number(phi_degrees):
     return 1 / (CHEN_N_S * math.tan(math.radians(45 + phi_degrees / 2)))
 
 
-def column_height():
-    scene = json.loads(COLUMN.read_text())
+def column_height(column_file):
+    scene = json.loads(column_file.read_text())
     (x0, y0), (x1, y1) = scene["regions"][0]["rectangle"]["min"], scene["regions"][0]["rectangle"]["max"]
     return y1 - y0, x1 - x0
 
@@ -106,9 +110,11 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4])
     parser.add_argument("--pressures", type=float, nargs="+", default=[250, 500, 1000, 2000, 4000, 8000])
+    parser.add_argument("--cell", type=Path, default=CELL, help="the cell JSON to test (default: the paper's snow cell)")
+    parser.add_argument("--column", type=Path, default=COLUMN, help="the column scene whose Co is stated")
     args = parser.parse_args()
     build = args.build.resolve()
-    rows = [shear_test(build, args.out / f"seed{seed}", seed, p) for seed in args.seeds for p in args.pressures]
+    rows = [shear_test(build, args.cell, args.out / f"seed{seed}", seed, p) for seed in args.seeds for p in args.pressures]
     with (args.out / "strength.csv").open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
@@ -120,8 +126,8 @@ def main():
             # through the origin: the broken packing keeps no cohesion worth fitting
             "residual": (0.0, float(np.sum([r["mu"] * r["normal_stress"] * r["P"] for r in rows])
                                     / np.sum([r["P"] ** 2 for r in rows])))}
-    height, width = column_height()
-    grain_density = json.loads(CELL.read_text())["material"]["density"]
+    height, width = column_height(args.column)
+    grain_density = json.loads(args.cell.read_text())["material"]["density"]
     mean_phi_s = statistics.mean(r["phi_consolidated"] for r in rows)
     mid_stress = min(args.pressures, key=lambda p: abs(p - grain_density * mean_phi_s * G * height / 2))
     density = grain_density * statistics.mean(r["phi_consolidated"] for r in rows if r["P"] == mid_stress)
@@ -138,12 +144,12 @@ def main():
     lines += ["", "Peak envelope τ = intercept + slope · P per seed: "
               + ", ".join(f"seed {s}: {i:.0f} Pa + {k:.3f} P" for s, (i, k) in per_seed.items()),
               f"All seeds: {fits['peak'][0]:.0f} Pa + {fits['peak'][1]:.3f} P; residual: {fits['residual'][1]:.3f} P", "",
-              f"The paper's column: H0 = {height:g} m, L0 = {width:g} m, ρ = ρ_s φ_s = {density:.0f} kg/m³ "
+              f"The column ({args.column.name}): H0 = {height:g} m, L0 = {width:g} m, ρ = ρ_s φ_s = {density:.0f} kg/m³ "
               f"(φ_s at P = {mid_stress:g} Pa, nearest its mid-height stress)", "",
               "| convention | c [Pa] (seed sd) | φ [°] (seed sd) | Co = c/(ρ g H0) | Co_c, vertical cut (Chen) | stands? | "
               "highest standing cut H_c [m] |", "|---|---|---|---|---|---|---|"]
-    result = {"rows": rows, "per_seed": per_seed, "fits": fits, "column": {"height": height, "width": width,
-                                                                            "density": density}}
+    result = {"cell": str(args.cell), "rows": rows, "per_seed": per_seed, "fits": fits,
+              "column": {"scene": str(args.column), "height": height, "width": width, "density": density}}
     for convention in ("tan", "sin"):
         seeds = [mohr_coulomb(*f)[convention] for f in per_seed.values()]
         c, phi = mohr_coulomb(*fits["peak"])[convention]

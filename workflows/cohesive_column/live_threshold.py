@@ -1,0 +1,180 @@
+"""Does the two-scale column stand where its cell's strength says it should? (issue 18, "cohesive
+column: the transition from standing to collapse", with live DEM cells).
+
+The demo column (workflows/demo/column.json: against a back wall, gravity ramped in over 0.05 s, gate
+removed at 0.08 s, one point per grid cell) at several heights H0, made --width L0 wide (default
+0.15 m, wider than a vertical cut's mechanism for H0 ≤ 0.2 m) on a grid of --cell-size h (default
+0.0125 m), every point answered by its own live DEM cell (default: the demo's 125-sphere soft-snow
+cell). The cost of a run grows as (H0/h)² √H0: a column resolved by ten or so grid cells is the
+affordable one.
+
+The predictions come from the cell alone, each the highest vertical cut that stands in limit analysis
+(Chen's log-spiral, γ H_c / c = 3.83 tan(45° + φ/2)), run on the same --cell:
+- --strength, the strength.json of workflows/cell_response/strength.py: the peak Mohr–Coulomb
+  envelope of DEM shear tests under a held normal stress, read two ways (τ/σ = tan φ or sin φ on the
+  shear plane);
+- --unconfined, the unconfined.json of workflows/cell_response/unconfined.py: the strength q_u of the
+  two-scale material in unconfined plane-strain compression, the stress state of a cut's face, which
+  for a Mohr–Coulomb material fixes H_c = 1.915 q_u / (ρ g) whatever its c and φ.
+
+A run stands when its front (farthest point) has moved less than STANDING × L0 between the gate's
+removal and the end, the gate's time plus WATCH √(H0/g) (at least MIN_WATCH s).
+
+  /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
+                                     [--heights 0.05 0.1 0.15 0.2]
+                                     [--width 0.15] [--cell-size 0.0125] [--cell CELL.json]
+                                     [--build BUILD] [--threads N] [--watch 4]
+
+Finished runs in OUT/runs/ are kept (an interrupted study resumes), and the outputs cover every run of
+the cell there, so that heights run with other widths and grids join one table. Writes OUT/live_threshold.md,
+OUT/live_threshold.json and OUT/live_threshold.png (front displacement against H0, with each H_c).
+"""
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+from plotting import environment, flow, run_compare, scenes, tables, vtu  # noqa: E402
+from plotting.figures import finish_and_save, plt  # noqa: E402
+
+SCENE = HERE.parent / "demo" / "column.json"
+CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
+G = 9.81
+STANDING = 0.02  # front displacement / L0 below which the column stands, as in stability.py
+MIN_WATCH = 0.3  # [s] after the gate, at least
+OUTCOME = {True: "stands", False: "falls", None: "stopped"}
+
+
+def column_settings(scene, height, width, h):
+    """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
+    `h` with room for a runout of three widths, the gate's removal time). The grid's lines pass through
+    the column's base and back wall, so that its points sit whole cells' halves off them."""
+    x0, y0 = scene["regions"][0]["rectangle"]["min"]
+    gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
+    face = x0 + width
+    origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
+    return {"/grid/origin": origin, "/grid/cell_size": h,
+            "/grid/cells": [math.ceil((face + 3 * width - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)],
+            "/regions/0/rectangle/max": [face, y0 + height],
+            f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
+            "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
+
+
+def run_height(build, out, cell, height, width, h, watch, threads):
+    """One live column of height `height` [m]; returns its row of the table."""
+    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h)
+    end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
+    settings["/time/end"] = end
+    name = f"h{height:g}_l{width:g}_dx{h:g}"
+    scene_file = out / "scenes" / f"{name}.json"
+    scene_file.parent.mkdir(parents=True, exist_ok=True)
+    scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(cell.resolve())}, settings)
+    cost = run_compare.timed_scene_run(build, scene_file, out / "runs" / name, threads)
+    series = tables.read_csv(out / "runs" / name / "series.csv")
+    at_gate = min(range(len(series["t"])), key=lambda k: abs(series["t"][k] - gate))
+    snapshots = vtu.read_run(out / "runs" / name)
+    first, last = snapshots[0].xy, snapshots[-1].xy
+    front = float(series["front"][-1] - series["front"][at_gate])
+    row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h, "end": float(series["t"][-1]),
+           "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
+           "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
+           # A run that stopped early (a cell too thin, a point thrown out) is no verdict either way.
+           "stands": None if cost["failed"] else front < STANDING * width, "cpu_s": cost["cpu_s"],
+           "failed": cost["failed"]}
+    (out / "runs" / name / "threshold_row.json").write_text(json.dumps(row) + "\n")
+    return row
+
+
+def finished_rows(out, cell):
+    """The rows of every run of `cell` in OUT/runs, whatever grid and width each was run with, by height."""
+    rows = [json.loads(f.read_text()) for f in (out / "runs").glob("*/threshold_row.json")]
+    return sorted((r for r in rows if r["cell"] == str(cell.resolve())), key=lambda r: (r["height"], r["cell_size"]))
+
+
+def predictions(strength, unconfined):
+    """{predictor: H_c [m]} from a strength.py result (its shear envelope, read two ways) and an
+    unconfined.py result (Chen's bound from q_u), either may be None."""
+    found = {}
+    if strength:
+        for reading in ("tan", "sin"):
+            r = strength[reading]
+            found[f"shear envelope, τ/σ = {reading} φ (c = {r['cohesion']:.0f} Pa, φ = {r['friction_angle']:.1f}°)"] = \
+                r["critical_height"]
+    if unconfined:
+        found[f"unconfined compression (q_u = {unconfined['q_u']:.0f} Pa)"] = unconfined["critical_height"]["Chen (N_s = 3.83)"]
+    return found
+
+
+def read_prediction(file, cell, producer):
+    """The JSON `file` of `producer` run on `cell`; exits naming the file and field otherwise."""
+    if file is None:
+        return None
+    result = json.loads(file.read_text())
+    if Path(result.get("cell", "")).resolve() != cell.resolve():
+        sys.exit(f"live_threshold.py: {file}: field 'cell' is {result.get('cell')!r}, expected the cell the "
+                 f"columns run, {cell}: run {producer} --cell {cell}")
+    return result
+
+
+def plot(rows, critical, out):
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    ax.semilogy([r["height"] for r in rows], [max(r["front"], 1e-4) for r in rows], "o", label="live DEM cells")
+    for (name, value), style in zip(critical.items(), ("--", ":", "-.")):
+        ax.axvline(value, color="grey", linestyle=style, label=f"H_c, {name}")
+    ax.axhline(STANDING, color="k", linewidth=0.6)
+    finish_and_save(fig, ax, out, "column height H0 [m]", "front displacement after the gate / L0")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("out", type=Path)
+    parser.add_argument("--strength", type=Path, help="strength.json of cell_response/strength.py on the same cell")
+    parser.add_argument("--unconfined", type=Path, help="unconfined.json of cell_response/unconfined.py on the same cell")
+    parser.add_argument("--heights", type=float, nargs="+", default=[0.05, 0.1, 0.15, 0.2], help="H0 [m]")
+    parser.add_argument("--width", type=float, default=0.15, help="L0 [m]")
+    parser.add_argument("--cell-size", type=float, default=0.0125, help="grid cell size h [m]")
+    parser.add_argument("--cell", type=Path, default=CELL)
+    parser.add_argument("--build", type=Path, default=environment.build_dir())
+    parser.add_argument("--threads", type=int, default=environment.threads())
+    parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
+    args = parser.parse_args()
+    if not (args.strength or args.unconfined):
+        parser.error("give --strength, --unconfined or both: what predicts the critical height")
+    critical = predictions(read_prediction(args.strength, args.cell, "strength.py"),
+                           read_prediction(args.unconfined, args.cell, "unconfined.py"))
+    args.out.mkdir(parents=True, exist_ok=True)
+    for height in args.heights:
+        row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size, args.watch,
+                         args.threads)
+        print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
+              f"{row['cpu_s']:.0f} CPU-s", flush=True)
+    rows = finished_rows(args.out, args.cell)
+    for row in rows:
+        row["predicted"] = {name: "stand" if row["height"] < value else "fall" for name, value in critical.items()}
+
+    agree = {name: all((r["predicted"][name] == "stand") == r["stands"] for r in rows if r["stands"] is not None)
+             for name in critical}
+    lines = [f"Cell {args.cell.name}. Critical heights (Chen): "
+             + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
+             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | stands | "
+             + " | ".join(f"predicted by H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
+    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['end']:.3f} | {r['front']:.3f} | {r['top_drop']:.3f} | "
+              f"{OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values()) + f" | {r['cpu_s']:.0f} |"
+              + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
+    lines += [""] + [f"{name}: {'every column as predicted' if ok else 'some column not as predicted'}"
+                     for name, ok in agree.items()]
+    text = "\n".join(lines) + "\n"
+    (args.out / "live_threshold.md").write_text(text)
+    (args.out / "live_threshold.json").write_text(json.dumps(
+        {"cell": str(args.cell), "critical_height": critical,
+         "standing": STANDING, "runs": rows, "agree": agree}, indent=2))
+    plot(rows, critical, args.out / "live_threshold.png")
+    print(text, end="")
+
+
+if __name__ == "__main__":
+    main()
