@@ -141,6 +141,10 @@ def main():
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
     args = parser.parse_args()
+    for name, length in [("--width", args.width)] + [("--heights", height) for height in args.heights]:
+        if abs(length / args.cell_size - round(length / args.cell_size)) > 1e-6:
+            # The points sit half a cell off the walls and the gate; a part cell would put one into them.
+            parser.error(f"{name} {length:g}: expected a whole number of grid cells of --cell-size {args.cell_size:g} m")
     if not (args.strength or args.unconfined):
         parser.error("give --strength, --unconfined or both: what predicts the critical height")
     critical = predictions(read_prediction(args.strength, args.cell, "strength.py"),
