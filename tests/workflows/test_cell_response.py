@@ -64,6 +64,7 @@ class CellResponseTest(WorkflowTest):
              "--strain-rate", "0.1", "--strain", "0.008"])
         result = json.loads((self.out / "unconfined.json").read_text())
         q_u = result["q_u"]
+        self.assertTrue(result["peak_reached"])
         self.assertGreater(q_u, 200, "above the cell's preparation pressure: the platen loaded it")
         self.assertLess(abs(result["lateral_at_peak"]), 0.05 * q_u, "unconfined: σ_xx stays near zero")
         self.assertLess(result["after_peak"], 0.2 * q_u, "the bonds break and the strength falls away")

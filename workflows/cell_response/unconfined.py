@@ -86,14 +86,18 @@ def main():
     rows, density = measure(args.out / "run", args.strain_rate)
     peak = max(rows, key=lambda r: r["compression"])
     q_u = peak["compression"]
+    # A peak is one the stress has fallen from: at the end still at the largest, q_u is only a bound.
+    peak_reached = rows[-1]["compression"] < 0.9 * q_u
     critical = {name: n_s / 2 * q_u / (density * G) for name, n_s in N_S.items()}
-    result = {"cell": str(args.cell), "q_u": q_u, "peak_strain": peak["strain"], "peak_time": peak["t"],
-              "lateral_at_peak": peak["lateral"], "damage_at_peak": peak["damage"], "density": density,
-              "critical_height": critical, "after_peak": rows[-1]["compression"], "cpu_s": cost["cpu_s"],
+    result = {"cell": str(args.cell), "q_u": q_u, "peak_reached": peak_reached, "peak_strain": peak["strain"],
+              "peak_time": peak["t"], "lateral_at_peak": peak["lateral"], "damage_at_peak": peak["damage"],
+              "density": density, "critical_height": critical, "after_peak": rows[-1]["compression"], "cpu_s": cost["cpu_s"],
               "failed": cost["failed"], "rows": rows}
     (args.out / "unconfined.json").write_text(json.dumps(result, indent=2))
     text = (f"Cell {args.cell.name}, block {width:g} × {height:g} m, h = {args.cell_size:g} m, strain rate "
-            f"{args.strain_rate:g} /s: q_u = {q_u:.0f} Pa at platen strain {peak['strain']:.2e} (points "
+            f"{args.strain_rate:g} /s: " + ("" if peak_reached else
+                                            f"NO PEAK by platen strain {args.strain:g} (raise --strain): ")
+            + f"q_u {'=' if peak_reached else '≥'} {q_u:.0f} Pa at platen strain {peak['strain']:.2e} (points "
             f"{peak['compression_min']:.0f}–{peak['compression_max']:.0f} Pa, mean σ_xx {-peak['lateral']:.0f} Pa, "
             f"damage {peak['damage']:.2f}); at the end {rows[-1]['compression']:.0f} Pa, damage {rows[-1]['damage']:.2f}. "
             f"ρ = {density:.0f} kg/m³; highest vertical cut: "

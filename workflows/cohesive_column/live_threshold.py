@@ -147,8 +147,11 @@ def main():
             parser.error(f"{name} {length:g}: expected a whole number of grid cells of --cell-size {args.cell_size:g} m")
     if not (args.strength or args.unconfined):
         parser.error("give --strength, --unconfined or both: what predicts the critical height")
-    critical = predictions(read_prediction(args.strength, args.cell, "strength.py"),
-                           read_prediction(args.unconfined, args.cell, "unconfined.py"))
+    unconfined = read_prediction(args.unconfined, args.cell, "unconfined.py")
+    if unconfined and not unconfined["peak_reached"]:
+        sys.exit(f"live_threshold.py: {args.unconfined}: field 'peak_reached' is false, expected true: the test never "
+                 "peaked, so its q_u is only a lower bound; run unconfined.py again with a larger --strain")
+    critical = predictions(read_prediction(args.strength, args.cell, "strength.py"), unconfined)
     args.out.mkdir(parents=True, exist_ok=True)
     for height in args.heights:
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size, args.watch,
