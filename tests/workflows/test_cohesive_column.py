@@ -68,13 +68,14 @@ class LiveThresholdTest(WorkflowTest):
         self.assert_png(self.out / "live" / "live_threshold.png")
 
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):
-        prediction = {"cell": str(WORKFLOWS / "demo" / "cell_soft_snow_250.json"), "q_u": 1000.0, "peak_reached": True,
+        other = WORKFLOWS / "demo" / "cell_soft_snow_250.json"
+        prediction = {"cell": str(other), "cell_json": json.loads(other.read_text()), "q_u": 1000.0, "peak_reached": True,
                       "critical_height": {"Chen (N_s = 3.83)": 0.3}}
         (self.out / "other.json").write_text(json.dumps(prediction))
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "other.json", "--heights", "0.05")
-        self.assertIn(f"{self.out / 'other.json'}: field 'cell'", str(refused.exception))
-        prediction.update(cell=str(self.CELL), peak_reached=False)
+        self.assertIn(f"{self.out / 'other.json'}: field 'cell_json'", str(refused.exception))
+        prediction.update(cell=str(self.CELL), cell_json=json.loads(self.CELL.read_text()), peak_reached=False)
         (self.out / "unpeaked.json").write_text(json.dumps(prediction))
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "unpeaked.json", "--heights", "0.05")

@@ -148,7 +148,7 @@ def main():
               f"(φ_s at P = {mid_stress:g} Pa, nearest its mid-height stress)", "",
               "| convention | c [Pa] (seed sd) | φ [°] (seed sd) | Co = c/(ρ g H0) | Co_c, vertical cut (Chen) | stands? | "
               "highest standing cut H_c [m] |", "|---|---|---|---|---|---|---|"]
-    result = {"cell": str(args.cell), "rows": rows, "per_seed": per_seed, "fits": fits,
+    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "rows": rows, "per_seed": per_seed, "fits": fits,
               "column": {"scene": str(args.column), "height": height, "width": width, "density": density}}
     for convention in ("tan", "sin"):
         seeds = [mohr_coulomb(*f)[convention] for f in per_seed.values()]

@@ -89,7 +89,7 @@ def main():
     # A peak is one the stress has fallen from: at the end still at the largest, q_u is only a bound.
     peak_reached = rows[-1]["compression"] < 0.9 * q_u
     critical = {name: n_s / 2 * q_u / (density * G) for name, n_s in N_S.items()}
-    result = {"cell": str(args.cell), "q_u": q_u, "peak_reached": peak_reached, "peak_strain": peak["strain"],
+    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "q_u": q_u, "peak_reached": peak_reached, "peak_strain": peak["strain"],
               "peak_time": peak["t"], "lateral_at_peak": peak["lateral"], "damage_at_peak": peak["damage"],
               "density": density, "critical_height": critical, "after_peak": rows[-1]["compression"], "cpu_s": cost["cpu_s"],
               "failed": cost["failed"], "rows": rows}

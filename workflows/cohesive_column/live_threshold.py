@@ -18,7 +18,9 @@ The predictions come from the cell alone, each the highest vertical cut that sta
   for a Mohr–Coulomb material fixes H_c = 1.915 q_u / (ρ g) whatever its c and φ.
 
 A run stands when its front (farthest point) has moved less than STANDING × L0 between the gate's
-removal and the end, the gate's time plus WATCH √(H0/g) (at least MIN_WATCH s).
+removal and the end, the gate's time plus WATCH √(H0/g) (at least MIN_WATCH s); a run that stopped
+before the end (its table row says why) has fallen if its front had moved that far, and gives no
+verdict otherwise.
 
   /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
                                      [--heights 0.05 0.1 0.15 0.2]
@@ -50,15 +52,18 @@ OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 def column_settings(scene, height, width, h):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
-    `h` with room for a runout of three widths, the gate's removal time). The grid's lines pass through
-    the column's base and back wall, so that its points sit whole cells' halves off them."""
+    `h` with room for a runout of three times the larger of the two and a floor under all of it, the
+    gate's removal time). The grid's lines pass through the column's base and back wall, so that its
+    points sit whole cells' halves off them."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
+    (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
     face = x0 + width
     origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
-    return {"/grid/origin": origin, "/grid/cell_size": h,
-            "/grid/cells": [math.ceil((face + 3 * width - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)],
+    cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
+    return {"/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
             "/regions/0/rectangle/max": [face, y0 + height],
+            f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
             "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
 
@@ -71,7 +76,8 @@ def run_height(build, out, cell, height, width, h, watch, threads):
     name = f"h{height:g}_l{width:g}_dx{h:g}"
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
-    scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(cell.resolve())}, settings)
+    if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
+        scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(cell.resolve())}, settings)
     cost = run_compare.timed_scene_run(build, scene_file, out / "runs" / name, threads)
     series = tables.read_csv(out / "runs" / name / "series.csv")
     at_gate = min(range(len(series["t"])), key=lambda k: abs(series["t"][k] - gate))
@@ -81,8 +87,10 @@ def run_height(build, out, cell, height, width, h, watch, threads):
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
-           # A run that stopped early (a cell too thin, a point thrown out) is no verdict either way.
-           "stands": None if cost["failed"] else front < STANDING * width, "cpu_s": cost["cpu_s"],
+           # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
+           # by then, and is no verdict if it had not.
+           "stands": front < STANDING * width if not cost["failed"] else (False if front >= STANDING * width else None),
+           "cpu_s": cost["cpu_s"],
            "failed": cost["failed"]}
     (out / "runs" / name / "threshold_row.json").write_text(json.dumps(row) + "\n")
     return row
@@ -113,9 +121,11 @@ def read_prediction(file, cell, producer):
     if file is None:
         return None
     result = json.loads(file.read_text())
-    if Path(result.get("cell", "")).resolve() != cell.resolve():
-        sys.exit(f"live_threshold.py: {file}: field 'cell' is {result.get('cell')!r}, expected the cell the "
-                 f"columns run, {cell}: run {producer} --cell {cell}")
+    # By content, so that a result made in another checkout, or before the cell file was edited, is judged
+    # by the cell it measured.
+    if result.get("cell_json") != json.loads(cell.read_text()):
+        sys.exit(f"live_threshold.py: {file}: field 'cell_json' (the cell measured, from {result.get('cell')!r}) is "
+                 f"not the cell the columns run, {cell}: run {producer} --cell {cell}")
     return result
 
 
