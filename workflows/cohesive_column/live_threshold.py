@@ -131,10 +131,12 @@ def read_prediction(file, cell, producer):
 
 def plot(rows, critical, out):
     fig, ax = plt.subplots(figsize=(6.5, 3.8))
-    ax.semilogy([r["height"] for r in rows], [max(r["front"], 1e-4) for r in rows], "o", label="live DEM cells")
+    ax.semilogy([r["height"] for r in rows], [max(r["front"], 1e-4) for r in rows], "o",
+                label="live DEM cells (a front below 1e-4 L0 drawn at 1e-4)")
     for (name, value), style in zip(critical.items(), ("--", ":", "-.")):
         ax.axvline(value, color="grey", linestyle=style, label=f"H_c, {name}")
     ax.axhline(STANDING, color="k", linewidth=0.6)
+    ax.set_ylim(1e-5, 1e3)  # room above the falling columns for the legend
     finish_and_save(fig, ax, out, "column height H0 [m]", "front displacement after the gate / L0")
 
 
@@ -170,25 +172,33 @@ def main():
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)
     for row in rows:
-        row["predicted"] = {name: "stand" if row["height"] < value else "fall" for name, value in critical.items()}
-
-    agree = {name: all((r["predicted"][name] == "stand") == r["stands"] for r in rows if r["stands"] is not None)
-             for name in critical}
-    lines = [f"Cell {args.cell.name}. Critical heights (Chen): "
-             + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
-             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | stands | "
-             + " | ".join(f"predicted by H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
+        row["predicted"] = {name: "must fall" if row["height"] > value else "may stand" for name, value in critical.items()}
+    stood = max((r["height"] for r in rows if r["stands"] is True), default=None)
+    fell = min((r["height"] for r in rows if r["stands"] is False), default=None)
+    verdicts = {name: {"critical_height": value,
+                       "contradicted_by": [r["height"] for r in rows if r["stands"] is True and r["height"] > value],
+                       "highest_standing_over_critical": None if stood is None else stood / value,
+                       "lowest_falling_over_critical": None if fell is None else fell / value}
+                for name, value in critical.items()}
+    lines = [f"Cell {args.cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
+             "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
+             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
+             + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
              "|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
     lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['end']:.3f} | {r['front']:.3f} | {r['top_drop']:.3f} | "
               f"{OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values()) + f" | {r['cpu_s']:.0f} |"
               + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
-    lines += [""] + [f"{name}: {'every column as predicted' if ok else 'some column not as predicted'}"
-                     for name, ok in agree.items()]
+    lines.append("")
+    for name, v in verdicts.items():
+        bracket = (f"the highest column standing is {v['highest_standing_over_critical']:.2f} H_c" if stood else "none stood") \
+            + (f", the lowest falling {v['lowest_falling_over_critical']:.2f} H_c" if fell else ", none fell")
+        lines.append(f"{name}: " + (f"contradicted: columns of H0 = {', '.join(f'{h:g}' for h in v['contradicted_by'])} m "
+                                     "stood above H_c" if v["contradicted_by"] else "not contradicted") + f"; {bracket}")
     text = "\n".join(lines) + "\n"
     (args.out / "live_threshold.md").write_text(text)
     (args.out / "live_threshold.json").write_text(json.dumps(
         {"cell": str(args.cell), "critical_height": critical,
-         "standing": STANDING, "runs": rows, "agree": agree}, indent=2))
+         "standing": STANDING, "runs": rows, "verdicts": verdicts}, indent=2))
     plot(rows, critical, args.out / "live_threshold.png")
     print(text, end="")
 
