@@ -102,6 +102,18 @@ def finished_rows(out, cell):
     return sorted((r for r in rows if r["cell"] == str(cell.resolve())), key=lambda r: (r["height"], r["cell_size"]))
 
 
+def threshold_brackets(rows):
+    """{H0/h: (highest height that stood, lowest that fell)} over the runs of each resolution, a side
+    None where no run of that resolution stood (fell)."""
+    resolutions = sorted({round(r["height"] / r["cell_size"]) for r in rows})
+    found = {}
+    for n in resolutions:
+        group = [r for r in rows if round(r["height"] / r["cell_size"]) == n]
+        found[n] = (max((r["height"] for r in group if r["stands"] is True), default=None),
+                    min((r["height"] for r in group if r["stands"] is False), default=None))
+    return found
+
+
 def predictions(strength, unconfined):
     """{predictor: H_c [m]} from a strength.py result (its shear envelope, read two ways) and an
     unconfined.py result (Chen's bound from q_u), either may be None."""
@@ -173,12 +185,12 @@ def main():
     rows = finished_rows(args.out, args.cell)
     for row in rows:
         row["predicted"] = {name: "must fall" if row["height"] > value else "may stand" for name, value in critical.items()}
-    stood = max((r["height"] for r in rows if r["stands"] is True), default=None)
-    fell = min((r["height"] for r in rows if r["stands"] is False), default=None)
+    brackets = threshold_brackets(rows)
     verdicts = {name: {"critical_height": value,
                        "contradicted_by": [r["height"] for r in rows if r["stands"] is True and r["height"] > value],
-                       "highest_standing_over_critical": None if stood is None else stood / value,
-                       "lowest_falling_over_critical": None if fell is None else fell / value}
+                       # per resolution H0/h: [highest standing, lowest falling] / H_c
+                       "threshold_over_critical": {rows_: [None if h is None else h / value for h in pair]
+                                                   for rows_, pair in brackets.items()}}
                 for name, value in critical.items()}
     lines = [f"Cell {args.cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
              "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
@@ -190,10 +202,12 @@ def main():
               + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
     lines.append("")
     for name, v in verdicts.items():
-        bracket = (f"the highest column standing is {v['highest_standing_over_critical']:.2f} H_c" if stood else "none stood") \
-            + (f", the lowest falling {v['lowest_falling_over_critical']:.2f} H_c" if fell else ", none fell")
         lines.append(f"{name}: " + (f"contradicted: columns of H0 = {', '.join(f'{h:g}' for h in v['contradicted_by'])} m "
-                                     "stood above H_c" if v["contradicted_by"] else "not contradicted") + f"; {bracket}")
+                                     "stood above H_c" if v["contradicted_by"] else "not contradicted") + "; "
+                     + "; ".join(f"at H0/h = {rows_}: " + ", ".join(f"{label} {ratio:.2f} H_c" for label, ratio in
+                                                                    zip(("highest standing", "lowest falling"), pair)
+                                                                    if ratio is not None)
+                                 for rows_, pair in v["threshold_over_critical"].items()))
     text = "\n".join(lines) + "\n"
     (args.out / "live_threshold.md").write_text(text)
     (args.out / "live_threshold.json").write_text(json.dumps(
