@@ -69,8 +69,8 @@ class LiveThresholdTest(WorkflowTest):
 
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):
         other = WORKFLOWS / "demo" / "cell_soft_snow_250.json"
-        prediction = {"cell": str(other), "cell_json": json.loads(other.read_text()), "q_u": 1000.0, "peak_reached": True,
-                      "critical_height": {"Chen (N_s = 3.83)": 0.3}}
+        prediction = {"cell": str(other), "cell_json": json.loads(other.read_text()), "q_u": 1000.0,
+                      "peak_reached": True, "critical_height": {"Chen (N_s = 3.83)": 0.3}}
         (self.out / "other.json").write_text(json.dumps(prediction))
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "other.json", "--heights", "0.05")

@@ -110,11 +110,13 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--seeds", type=int, nargs="+", default=[1, 2, 3, 4])
     parser.add_argument("--pressures", type=float, nargs="+", default=[250, 500, 1000, 2000, 4000, 8000])
-    parser.add_argument("--cell", type=Path, default=CELL, help="the cell JSON to test (default: the paper's snow cell)")
+    parser.add_argument("--cell", type=Path, default=CELL,
+                        help="the cell JSON to test (default: the paper's snow cell)")
     parser.add_argument("--column", type=Path, default=COLUMN, help="the column scene whose Co is stated")
     args = parser.parse_args()
     build = args.build.resolve()
-    rows = [shear_test(build, args.cell, args.out / f"seed{seed}", seed, p) for seed in args.seeds for p in args.pressures]
+    rows = [shear_test(build, args.cell, args.out / f"seed{seed}", seed, p)
+            for seed in args.seeds for p in args.pressures]
     with (args.out / "strength.csv").open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
         writer.writeheader()
@@ -144,11 +146,12 @@ def main():
     lines += ["", "Peak envelope τ = intercept + slope · P per seed: "
               + ", ".join(f"seed {s}: {i:.0f} Pa + {k:.3f} P" for s, (i, k) in per_seed.items()),
               f"All seeds: {fits['peak'][0]:.0f} Pa + {fits['peak'][1]:.3f} P; residual: {fits['residual'][1]:.3f} P", "",
-              f"The column ({args.column.name}): H0 = {height:g} m, L0 = {width:g} m, ρ = ρ_s φ_s = {density:.0f} kg/m³ "
-              f"(φ_s at P = {mid_stress:g} Pa, nearest its mid-height stress)", "",
+              f"The column ({args.column.name}): H0 = {height:g} m, L0 = {width:g} m, "
+              f"ρ = ρ_s φ_s = {density:.0f} kg/m³ (φ_s at P = {mid_stress:g} Pa, nearest its mid-height stress)", "",
               "| convention | c [Pa] (seed sd) | φ [°] (seed sd) | Co = c/(ρ g H0) | Co_c, vertical cut (Chen) | stands? | "
               "highest standing cut H_c [m] |", "|---|---|---|---|---|---|---|"]
-    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "rows": rows, "per_seed": per_seed, "fits": fits,
+    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "rows": rows,
+              "per_seed": per_seed, "fits": fits,
               "column": {"scene": str(args.column), "height": height, "width": width, "density": density}}
     for convention in ("tan", "sin"):
         seeds = [mohr_coulomb(*f)[convention] for f in per_seed.values()]

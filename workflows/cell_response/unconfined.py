@@ -25,7 +25,7 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, run_compare, vtu  # noqa: E402
+from plotting import environment, run_compare, scenes, vtu  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
 
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
@@ -77,8 +77,9 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
     args = parser.parse_args()
-    args.out.mkdir(parents=True, exist_ok=True)
     width, height = args.size
+    scenes.require_whole_cells(parser, args.cell_size, [("--size W", width), ("--size H", height)])
+    args.out.mkdir(parents=True, exist_ok=True)
     scene_file = args.out / "scene.json"
     scene_file.write_text(json.dumps(scene(args.cell, width, height, args.cell_size, args.strain_rate, args.strain),
                                      indent=2) + "\n")
@@ -89,17 +90,20 @@ def main():
     # A peak is one the stress has fallen from: at the end still at the largest, q_u is only a bound.
     peak_reached = rows[-1]["compression"] < 0.9 * q_u
     critical = {name: n_s / 2 * q_u / (density * G) for name, n_s in N_S.items()}
-    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "q_u": q_u, "peak_reached": peak_reached, "peak_strain": peak["strain"],
-              "peak_time": peak["t"], "lateral_at_peak": peak["lateral"], "damage_at_peak": peak["damage"],
-              "density": density, "critical_height": critical, "after_peak": rows[-1]["compression"], "cpu_s": cost["cpu_s"],
+    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "q_u": q_u,
+              "peak_reached": peak_reached, "peak_strain": peak["strain"], "peak_time": peak["t"],
+              "lateral_at_peak": peak["lateral"], "damage_at_peak": peak["damage"], "density": density,
+              "critical_height": critical, "after_peak": rows[-1]["compression"], "cpu_s": cost["cpu_s"],
               "failed": cost["failed"], "rows": rows}
     (args.out / "unconfined.json").write_text(json.dumps(result, indent=2))
     text = (f"Cell {args.cell.name}, block {width:g} × {height:g} m, h = {args.cell_size:g} m, strain rate "
             f"{args.strain_rate:g} /s: " + ("" if peak_reached else
                                             f"NO PEAK by platen strain {args.strain:g} (raise --strain): ")
-            + f"q_u {'=' if peak_reached else '≥'} {q_u:.0f} Pa at platen strain {peak['strain']:.2e} (points "
+            + f"q_u {'=' if peak_reached else '≥'} {q_u:.0f} Pa at platen strain {peak['strain']:.2e} "
+            f"(points "
             f"{peak['compression_min']:.0f}–{peak['compression_max']:.0f} Pa, mean σ_xx {-peak['lateral']:.0f} Pa, "
-            f"damage {peak['damage']:.2f}); at the end {rows[-1]['compression']:.0f} Pa, damage {rows[-1]['damage']:.2f}. "
+            f"damage {peak['damage']:.2f}); at the end {rows[-1]['compression']:.0f} Pa, "
+            f"damage {rows[-1]['damage']:.2f}. "
             f"ρ = {density:.0f} kg/m³; highest vertical cut: "
             + ", ".join(f"{name} {value:.3f} m" for name, value in critical.items())
             + f". {cost['cpu_s']:.0f} CPU-s" + (f"; stopped: {cost['failed']}" if cost["failed"] else "") + "\n")

@@ -124,7 +124,8 @@ def predictions(strength, unconfined):
             found[f"shear envelope, τ/σ = {reading} φ (c = {r['cohesion']:.0f} Pa, φ = {r['friction_angle']:.1f}°)"] = \
                 r["critical_height"]
     if unconfined:
-        found[f"unconfined compression (q_u = {unconfined['q_u']:.0f} Pa)"] = unconfined["critical_height"]["Chen (N_s = 3.83)"]
+        found[f"unconfined compression (q_u = {unconfined['q_u']:.0f} Pa)"] = \
+            unconfined["critical_height"]["Chen (N_s = 3.83)"]
     return found
 
 
@@ -139,6 +140,38 @@ def read_prediction(file, cell, producer):
         sys.exit(f"live_threshold.py: {file}: field 'cell_json' (the cell measured, from {result.get('cell')!r}) is "
                  f"not the cell the columns run, {cell}: run {producer} --cell {cell}")
     return result
+
+
+def verdicts_of(rows, critical):
+    """{predictor: the heights that contradict its H_c (stood above it), and per resolution H0/h the
+    highest standing and lowest falling height over H_c}."""
+    brackets = threshold_brackets(rows)
+    return {name: {"critical_height": value,
+                   "contradicted_by": [r["height"] for r in rows if r["stands"] is True and r["height"] > value],
+                   "threshold_over_critical": {resolution: [None if h is None else h / value for h in pair]
+                                               for resolution, pair in brackets.items()}}
+            for name, value in critical.items()}
+
+
+def report(rows, critical, verdicts, cell):
+    """live_threshold.md: the runs against each prediction, then each prediction's verdict."""
+    lines = [f"Cell {cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
+             "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
+             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
+             + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
+             "|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
+    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['end']:.3f} | {r['front']:.3f} | "
+              f"{r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
+              + f" | {r['cpu_s']:.0f} |" + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
+    lines.append("")
+    for name, v in verdicts.items():
+        contradicted = (f"contradicted: columns of H0 = {', '.join(f'{h:g}' for h in v['contradicted_by'])} m stood "
+                        "above H_c" if v["contradicted_by"] else "not contradicted")
+        thresholds = [f"at H0/h = {resolution}: " + ", ".join(
+            f"{label} {ratio:.2f} H_c" for label, ratio in zip(("highest standing", "lowest falling"), pair)
+            if ratio is not None) for resolution, pair in v["threshold_over_critical"].items()]
+        lines.append(f"{name}: {contradicted}; " + "; ".join(thresholds))
+    return "\n".join(lines) + "\n"
 
 
 def plot(rows, critical, out):
@@ -156,7 +189,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
     parser.add_argument("--strength", type=Path, help="strength.json of cell_response/strength.py on the same cell")
-    parser.add_argument("--unconfined", type=Path, help="unconfined.json of cell_response/unconfined.py on the same cell")
+    parser.add_argument("--unconfined", type=Path,
+                        help="unconfined.json of cell_response/unconfined.py on the same cell")
     parser.add_argument("--heights", type=float, nargs="+", default=[0.05, 0.1, 0.15, 0.2], help="H0 [m]")
     parser.add_argument("--width", type=float, default=0.15, help="L0 [m]")
     parser.add_argument("--cell-size", type=float, default=0.0125, help="grid cell size h [m]")
@@ -165,10 +199,8 @@ def main():
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
     args = parser.parse_args()
-    for name, length in [("--width", args.width)] + [("--heights", height) for height in args.heights]:
-        if abs(length / args.cell_size - round(length / args.cell_size)) > 1e-6:
-            # The points sit half a cell off the walls and the gate; a part cell would put one into them.
-            parser.error(f"{name} {length:g}: expected a whole number of grid cells of --cell-size {args.cell_size:g} m")
+    scenes.require_whole_cells(parser, args.cell_size,
+                               [("--width", args.width)] + [("--heights", height) for height in args.heights])
     if not (args.strength or args.unconfined):
         parser.error("give --strength, --unconfined or both: what predicts the critical height")
     unconfined = read_prediction(args.unconfined, args.cell, "unconfined.py")
@@ -184,31 +216,10 @@ def main():
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)
     for row in rows:
-        row["predicted"] = {name: "must fall" if row["height"] > value else "may stand" for name, value in critical.items()}
-    brackets = threshold_brackets(rows)
-    verdicts = {name: {"critical_height": value,
-                       "contradicted_by": [r["height"] for r in rows if r["stands"] is True and r["height"] > value],
-                       # per resolution H0/h: [highest standing, lowest falling] / H_c
-                       "threshold_over_critical": {rows_: [None if h is None else h / value for h in pair]
-                                                   for rows_, pair in brackets.items()}}
-                for name, value in critical.items()}
-    lines = [f"Cell {args.cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
-             "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
-             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
-             + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
-             "|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
-    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['end']:.3f} | {r['front']:.3f} | {r['top_drop']:.3f} | "
-              f"{OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values()) + f" | {r['cpu_s']:.0f} |"
-              + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
-    lines.append("")
-    for name, v in verdicts.items():
-        lines.append(f"{name}: " + (f"contradicted: columns of H0 = {', '.join(f'{h:g}' for h in v['contradicted_by'])} m "
-                                     "stood above H_c" if v["contradicted_by"] else "not contradicted") + "; "
-                     + "; ".join(f"at H0/h = {rows_}: " + ", ".join(f"{label} {ratio:.2f} H_c" for label, ratio in
-                                                                    zip(("highest standing", "lowest falling"), pair)
-                                                                    if ratio is not None)
-                                 for rows_, pair in v["threshold_over_critical"].items()))
-    text = "\n".join(lines) + "\n"
+        row["predicted"] = {name: "must fall" if row["height"] > value else "may stand"
+                            for name, value in critical.items()}
+    verdicts = verdicts_of(rows, critical)
+    text = report(rows, critical, verdicts, args.cell)
     (args.out / "live_threshold.md").write_text(text)
     (args.out / "live_threshold.json").write_text(json.dumps(
         {"cell": str(args.cell), "critical_height": critical,

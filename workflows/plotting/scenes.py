@@ -7,6 +7,16 @@ import subprocess
 from pathlib import Path
 
 
+def require_whole_cells(parser, cell_size, lengths):
+    """Stops `parser` with an error naming the option unless each of `lengths` ((option, length [m])
+    pairs) is a whole number of grid cells of `cell_size`: scenes seed their points half a cell off a region's
+    edges, so an edge inside a cell would put a point into the wall or platen standing on it."""
+    for name, length in lengths:
+        cells = length / cell_size
+        if round(cells) < 1 or abs(cells - round(cells)) > 1e-6:
+            parser.error(f"{name} {length:g}: expected a whole number of grid cells of {cell_size:g} m")
+
+
 def variant(build, base, out, law=None, library=None, material=None, settings=None):
     """Writes `out`: the scene file `base` with `law` and `library` for every DEM-backed material (a
     library replaces `cell`), the `material` keys merged into them (a `cell` there replaces the
