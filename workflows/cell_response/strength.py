@@ -27,6 +27,7 @@ demo's soft cell (workflows/demo/cell_soft_snow_250.json) against the demo's col
 Writes OUT/strength.csv (one row per seed and P), OUT/strength.md and OUT/strength.png.
 """
 import argparse
+import copy
 import csv
 import json
 import math
@@ -48,9 +49,9 @@ G = 9.81
 CHEN_N_S = 3.83  # γ H_c / c = N_s tan(45° + φ/2), Chen (1975), a vertical cut
 
 
-def shear_test(build, cell_file, folder, seed, pressure):
+def shear_test(build, cell_spec, folder, seed, pressure):
     folder.mkdir(parents=True, exist_ok=True)
-    cell = json.loads(cell_file.read_text())
+    cell = copy.deepcopy(cell_spec)
     cell["preparation"]["seed"] = seed
     (folder / "cell.json").write_text(json.dumps(cell))
     out = folder / f"p{pressure:g}.csv"
@@ -115,7 +116,8 @@ def main():
     parser.add_argument("--column", type=Path, default=COLUMN, help="the column scene whose Co is stated")
     args = parser.parse_args()
     build = args.build.resolve()
-    rows = [shear_test(build, args.cell, args.out / f"seed{seed}", seed, p)
+    cell_spec = json.loads(args.cell.read_text())
+    rows = [shear_test(build, cell_spec, args.out / f"seed{seed}", seed, p)
             for seed in args.seeds for p in args.pressures]
     with (args.out / "strength.csv").open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))
@@ -129,7 +131,7 @@ def main():
             "residual": (0.0, float(np.sum([r["mu"] * r["normal_stress"] * r["P"] for r in rows])
                                     / np.sum([r["P"] ** 2 for r in rows])))}
     height, width = column_height(args.column)
-    grain_density = json.loads(args.cell.read_text())["material"]["density"]
+    grain_density = cell_spec["material"]["density"]
     mean_phi_s = statistics.mean(r["phi_consolidated"] for r in rows)
     mid_stress = min(args.pressures, key=lambda p: abs(p - grain_density * mean_phi_s * G * height / 2))
     density = grain_density * statistics.mean(r["phi_consolidated"] for r in rows if r["P"] == mid_stress)
@@ -150,7 +152,7 @@ def main():
               f"ρ = ρ_s φ_s = {density:.0f} kg/m³ (φ_s at P = {mid_stress:g} Pa, nearest its mid-height stress)", "",
               "| convention | c [Pa] (seed sd) | φ [°] (seed sd) | Co = c/(ρ g H0) | Co_c, vertical cut (Chen) | stands? | "
               "highest standing cut H_c [m] |", "|---|---|---|---|---|---|---|"]
-    result = {"cell": str(args.cell), "cell_json": json.loads(args.cell.read_text()), "rows": rows,
+    result = {"cell": str(args.cell), "cell_json": cell_spec, "rows": rows,
               "per_seed": per_seed, "fits": fits,
               "column": {"scene": str(args.column), "height": height, "width": width, "density": density}}
     for convention in ("tan", "sin"):

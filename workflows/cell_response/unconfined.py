@@ -27,10 +27,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import environment, run_compare, scenes, vtu  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
+from strength import CHEN_N_S  # noqa: E402
 
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 G = 9.81
-N_S = {"Chen (N_s = 3.83)": 3.83, "Culmann (N_s = 4)": 4.0}
+N_S = {"Chen (N_s = 3.83)": CHEN_N_S, "Culmann (N_s = 4)": 4.0}
 PLATEN_K_N = 2e5  # [N/m per m], as the demo's walls
 SNAPSHOTS = 120
 

@@ -41,11 +41,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting import environment, flow, run_compare, scenes, tables, vtu  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
+from stability import STANDING  # noqa: E402  (the Drucker–Prager columns' criterion, so the two compare)
 
 SCENE = HERE.parent / "demo" / "column.json"
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 G = 9.81
-STANDING = 0.02  # front displacement / L0 below which the column stands, as in stability.py
 MIN_WATCH = 0.3  # [s] after the gate, at least
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
@@ -81,8 +81,8 @@ def run_height(build, out, cell, height, width, h, watch, threads):
     cost = run_compare.timed_scene_run(build, scene_file, out / "runs" / name, threads)
     series = tables.read_csv(out / "runs" / name / "series.csv")
     at_gate = min(range(len(series["t"])), key=lambda k: abs(series["t"][k] - gate))
-    snapshots = vtu.read_run(out / "runs" / name)
-    first, last = snapshots[0].xy, snapshots[-1].xy
+    snapshots = vtu.read_pvd(out / "runs" / name / "points.pvd")  # only the first and last are needed
+    first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
