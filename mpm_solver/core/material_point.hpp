@@ -22,7 +22,9 @@ struct MaterialPoint {
   Mat2 affine_velocity = Mat2::Zero();
   Vec2 external_force = Vec2::Zero();  // obstacle contact force of the current step [N/m]
   Mat2 deformation_gradient = Mat2::Identity();
-  Mat2 velocity_gradient = Mat2::Zero();  // L of the last step
+  // L of the last step, the one its law was driven with and F integrates: the grid's gradient at the
+  // point, or its nonlocal average when the scene regularizes (nonlocal_average.hpp).
+  Mat2 velocity_gradient = Mat2::Zero();
   // Motion too small to be worth a constitutive call (SolverSettings::skip_strain_increment): the
   // increments of the skipped steps composed, and the time they took; identity and 0 when nothing
   // is pending.

@@ -229,13 +229,15 @@ void Solver::update_stresses(double dt) {
   long skipped = 0;
   // Which points skipped their call, for the ranks that did not update them (point_distribution.hpp).
   std::vector<char> skipped_point(distribution_.spread() ? points_.size() : 0);
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (long p = 0; p < n; ++p) points_[p].velocity_gradient = velocity_gradient(grid_, stencils_[p]);
+  if (settings_.regularization) settings_.regularization->apply(points_);
   FirstFailure failure;
 #pragma omp parallel for schedule(dynamic, chunk) reduction(+ : skipped) if (any_expensive_law || n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
     try {
       ConstitutiveLaw& law = *laws_[mp.law];
-      mp.velocity_gradient = velocity_gradient(grid_, stencils_[p]);
       const KinematicIncrement step = KinematicIncrement::of_velocity_gradient(mp.velocity_gradient, dt);
       mp.deformation_gradient = step.F * mp.deformation_gradient;
       if (!distribution_.updates_here(mp, laws_)) continue;  // its owner sends the rest

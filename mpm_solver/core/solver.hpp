@@ -11,6 +11,7 @@
 #include "mpm_solver/core/grid.hpp"
 #include "mpm_solver/core/homogeneous_drive.hpp"
 #include "mpm_solver/core/material_point.hpp"
+#include "mpm_solver/core/nonlocal_average.hpp"
 #include "mpm_solver/core/obstacle.hpp"
 #include "mpm_solver/core/point_distribution.hpp"
 #include "mpm_solver/core/time_step.hpp"
@@ -33,6 +34,9 @@ struct SolverSettings {
   int rebalance_interval = 50;
   // When set, the whole domain is driven homogeneously (element tests); forces are then ignored.
   std::optional<HomogeneousDrive> homogeneous_drive;
+  // When set, each point's law is driven by the velocity gradient averaged over this length
+  // (nonlocal_average.hpp): the regularization of softening materials.
+  std::optional<NonlocalAverage> regularization;
 };
 
 // Wall time spent in each part of the step [s], summed over steps.

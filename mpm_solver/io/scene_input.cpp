@@ -141,8 +141,8 @@ Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
   const nlohmann::json doc = common::load_json_file(file);
   const JsonNode root(doc, file.filename().string());
   root.require_object();
-  root.allow_only({"grid", "time", "integration", "effects", "gravity", "materials", "regions", "obstacles",
-                   "tracked_points", "audit"});
+  root.allow_only({"grid", "time", "integration", "regularization", "effects", "gravity", "materials", "regions",
+                   "obstacles", "tracked_points", "audit"});
   const std::filesystem::path folder = file.parent_path();
 
   Scene scene;
@@ -179,6 +179,10 @@ Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
     settings.sort_interval = static_cast<int>(integration->integer_or("sort_interval", settings.sort_interval, 1, 1000000));
     settings.rebalance_interval =
         static_cast<int>(integration->integer_or("rebalance_interval", settings.rebalance_interval, 1, 1000000000));
+  }
+  if (const auto regularization = root.find("regularization")) {
+    regularization->allow_only({"nonlocal_length"});
+    settings.regularization.emplace(regularization->number("nonlocal_length", Range::positive()));
   }
   const JsonNode grid = root.at("grid", "an object with cell_size and cells");
   scene.solver = std::make_unique<Solver>(common::at_node(grid, [&] { return read_grid(grid); }), settings);

@@ -81,6 +81,16 @@ TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
   EXPECT_NEAR(affine_blend.pic_weight(0.01), 1 - std::exp(-0.02), 1e-15);
 }
 
+TEST(Scene, RegularizationSetsTheNonlocalLength) {
+  const std::string from = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
+  std::string text = kScene;
+  EXPECT_FALSE(io::load_scene(write_file("local.json", text)).solver->settings().regularization);
+  text.replace(text.find(from), from.size(), from + "\"regularization\": {\"nonlocal_length\": 0.25},");
+  const auto regularization = io::load_scene(write_file("nonlocal.json", text)).solver->settings().regularization;
+  ASSERT_TRUE(regularization);
+  EXPECT_DOUBLE_EQ(regularization->length(), 0.25);
+}
+
 void expect_error(const std::string& from, const std::string& to, const std::string& message) {
   std::string text = kScene;
   const auto at = text.find(from);
@@ -125,6 +135,10 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": "
                "{\"pic_rate\": 5}} (the default) or {\"flip_pic\": {\"pic_rate\": r}}, r the PIC fraction per second (flip f at steps of dt: r = "
                "-ln(f) / dt)");
+  expect_error(time, time + "\"regularization\": {\"nonlocal_length\": 0},",
+               "bad.json: /regularization/nonlocal_length: expected a positive number, got 0");
+  expect_error(time, time + "\"regularization\": {\"length\": 0.1},",
+               "bad.json: /regularization/length: unknown key; allowed keys here: nonlocal_length");
   expect_error("\"cells\": [10, 10]", "\"cells\": [100000, 100000]",
                "bad.json: /grid/cells: expected at most 20000000 cells in all (here n_x * n_y = 10000000000; use a "
                "coarser cell_size or a smaller domain), got an array of 2 entries");
