@@ -35,13 +35,14 @@ class LiveThresholdTest(WorkflowTest):
              "--cell-size", "0.025", "--strain-rate", "0.1", "--strain", "0.008"])
         return out / "unconfined.json"
 
-    def threshold(self, cell, prediction, *options):
-        """The study's one run of `options`, from its live_threshold.json."""
+    def threshold(self, cell, prediction, *options, regularized=False):
+        """The study's one run of `options`, local or regularized, from its live_threshold.json."""
         run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "live_threshold.py", self.out / "live",
              "--unconfined", prediction, "--build", BUILD, "--threads", "1", "--cell", cell, "--width", "0.1",
              "--cell-size", "0.05", "--watch", "1", *options])
         result = json.loads((self.out / "live" / "live_threshold.json").read_text())
-        (row,) = [r for r in result["runs"] if r["cell"] == str(cell.resolve())]
+        (row,) = [r for r in result["runs"] if r["cell"] == str(cell.resolve())
+                  and (r["nonlocal_length"] is not None) == regularized]
         (predicted,) = row["predicted"].values()
         return row, predicted
 
@@ -65,6 +66,19 @@ class LiveThresholdTest(WorkflowTest):
         self.assertEqual(predicted, "must fall")
         self.assertFalse(tall["stands"], tall)
         self.assertGreater(tall["top_drop"], 0, "the top sinks as the column falls")
+        self.assertIsNone(tall["nonlocal_length"])
+
+        # Regularized over two grid cells, the weak column still falls: the average spreads failure, it
+        # does not hold up a column of a cell too weak for it. Its scene carries the length.
+        regularized, predicted = self.threshold(weak_cell, weak_prediction, "--heights", "0.2",
+                                                "--nonlocal-length", "0.1", regularized=True)
+        self.assertEqual(predicted, "must fall")
+        self.assertFalse(regularized["stands"], regularized)
+        scene = json.loads((self.out / "live" / "scenes" / "h0.2_l0.1_dx0.05_nl0.1.json").read_text())
+        self.assertEqual(scene["regularization"], {"nonlocal_length": 0.1})
+        verdicts = json.loads((self.out / "live" / "live_threshold.json").read_text())["verdicts"]
+        (verdict,) = verdicts.values()
+        self.assertEqual(sorted(verdict["threshold_over_critical"]), ["local, H0/h = 4", "ℓ = 0.1 m, H0/h = 4"])
         self.assert_png(self.out / "live" / "live_threshold.png")
 
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):

@@ -6,7 +6,10 @@ removed at 0.08 s, one point per grid cell) at several heights H0, made --width 
 0.15 m, wider than a vertical cut's mechanism for H0 ≤ 0.2 m) on a grid of --cell-size h (default
 0.0125 m), every point answered by its own live DEM cell (default: the demo's 125-sphere soft-snow
 cell). The cost of a run grows as (H0/h)² √H0: a column resolved by ten or so grid cells is the
-affordable one.
+affordable one. --nonlocal-length ℓ regularizes the cells (the scene's regularization.nonlocal_length:
+each cell driven by the velocity gradient averaged over ℓ, mpm_solver/core/nonlocal_average.hpp), so
+that runs at several h and one ℓ show whether the threshold converges once the material has an
+internal length; runs without it are local.
 
 The predictions come from the cell alone, each the highest vertical cut that stands in limit analysis
 (Chen's log-spiral, γ H_c / c = 3.83 tan(45° + φ/2)), run on the same --cell:
@@ -24,11 +27,13 @@ verdict otherwise.
 
   /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
                                      [--heights 0.05 0.1 0.15 0.2]
-                                     [--width 0.15] [--cell-size 0.0125] [--cell CELL.json]
+                                     [--width 0.15] [--cell-size 0.0125] [--nonlocal-length ℓ]
+                                     [--cell CELL.json]
                                      [--build BUILD] [--threads N] [--watch 4]
 
 Finished runs in OUT/runs/ are kept (an interrupted study resumes), and the outputs cover every run of
-the cell there, so that heights run with other widths and grids join one table. Writes OUT/live_threshold.md,
+the cell there, so that heights run with other widths, grids and lengths ℓ join one table (the
+thresholds bracketed per ℓ and H0/h). Writes OUT/live_threshold.md,
 OUT/live_threshold.json and OUT/live_threshold.png (front displacement against H0, with each H_c).
 """
 import argparse
@@ -50,30 +55,31 @@ MIN_WATCH = 0.3  # [s] after the gate, at least
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 
-def column_settings(scene, height, width, h):
+def column_settings(scene, height, width, h, nonlocal_length):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
     `h` with room for a runout of three times the larger of the two and a floor under all of it, the
-    gate's removal time). The grid's lines pass through the column's base and back wall, so that its
-    points sit whole cells' halves off them."""
+    gate's removal time), regularized over `nonlocal_length` unless it is None. The grid's lines pass
+    through the column's base and back wall, so that its points sit whole cells' halves off them."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
     (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
     face = x0 + width
     origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
     cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
-    return {"/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
+    regularization = {} if nonlocal_length is None else {"/regularization": {"nonlocal_length": nonlocal_length}}
+    return {**regularization, "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
             "/regions/0/rectangle/max": [face, y0 + height],
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
             "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
 
 
-def run_height(build, out, cell, height, width, h, watch, threads):
+def run_height(build, out, cell, height, width, h, nonlocal_length, watch, threads):
     """One live column of height `height` [m]; returns its row of the table."""
-    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h)
+    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length)
     end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
-    name = f"h{height:g}_l{width:g}_dx{h:g}"
+    name = f"h{height:g}_l{width:g}_dx{h:g}" + ("" if nonlocal_length is None else f"_nl{nonlocal_length:g}")
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -84,7 +90,8 @@ def run_height(build, out, cell, height, width, h, watch, threads):
     snapshots = vtu.read_pvd(out / "runs" / name / "points.pvd")  # only the first and last are needed
     first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
-    row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h, "end": float(series["t"][-1]),
+    row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
+           "nonlocal_length": nonlocal_length, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
@@ -102,14 +109,20 @@ def finished_rows(out, cell):
     return sorted((r for r in rows if r["cell"] == str(cell.resolve())), key=lambda r: (r["height"], r["cell_size"]))
 
 
+def regularization(row):
+    """How a run was regularized, as the tables name it: "local" or "ℓ = … m"."""
+    length = row.get("nonlocal_length")  # runs from before the option are local
+    return "local" if length is None else f"ℓ = {length:g} m"
+
+
 def threshold_brackets(rows):
-    """{H0/h: (highest height that stood, lowest that fell)} over the runs of each resolution, a side
-    None where no run of that resolution stood (fell)."""
-    resolutions = sorted({round(r["height"] / r["cell_size"]) for r in rows})
+    """{"<regularization>, H0/h = n": (highest height that stood, lowest that fell)} over the runs of
+    each regularization and resolution, a side None where no run of that group stood (fell)."""
+    groups = sorted({(regularization(r), round(r["height"] / r["cell_size"])) for r in rows})
     found = {}
-    for n in resolutions:
-        group = [r for r in rows if round(r["height"] / r["cell_size"]) == n]
-        found[n] = (max((r["height"] for r in group if r["stands"] is True), default=None),
+    for label, n in groups:
+        group = [r for r in rows if regularization(r) == label and round(r["height"] / r["cell_size"]) == n]
+        found[f"{label}, H0/h = {n}"] = (max((r["height"] for r in group if r["stands"] is True), default=None),
                     min((r["height"] for r in group if r["stands"] is False), default=None))
     return found
 
@@ -148,8 +161,8 @@ def verdicts_of(rows, critical):
     brackets = threshold_brackets(rows)
     return {name: {"critical_height": value,
                    "contradicted_by": [r["height"] for r in rows if r["stands"] is True and r["height"] > value],
-                   "threshold_over_critical": {resolution: [None if h is None else h / value for h in pair]
-                                               for resolution, pair in brackets.items()}}
+                   "threshold_over_critical": {group: [None if h is None else h / value for h in pair]
+                                               for group, pair in brackets.items()}}
             for name, value in critical.items()}
 
 
@@ -157,19 +170,19 @@ def report(rows, critical, verdicts, cell):
     """live_threshold.md: the runs against each prediction, then each prediction's verdict."""
     lines = [f"Cell {cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
              "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
-             "| H0 [m] | L0 [m] | h [m] | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
+             "| H0 [m] | L0 [m] | h [m] | regularization | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
              + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
-             "|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
-    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['end']:.3f} | {r['front']:.3f} | "
+             "|---|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
+    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {regularization(r)} | {r['end']:.3f} | {r['front']:.3f} | "
               f"{r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
               + f" | {r['cpu_s']:.0f} |" + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
     lines.append("")
     for name, v in verdicts.items():
         contradicted = (f"contradicted: columns of H0 = {', '.join(f'{h:g}' for h in v['contradicted_by'])} m stood "
                         "above H_c" if v["contradicted_by"] else "not contradicted")
-        thresholds = [f"at H0/h = {resolution}: " + ", ".join(
+        thresholds = [f"{group}: " + ", ".join(
             f"{label} {ratio:.2f} H_c" for label, ratio in zip(("highest standing", "lowest falling"), pair)
-            if ratio is not None) for resolution, pair in v["threshold_over_critical"].items()]
+            if ratio is not None) for group, pair in v["threshold_over_critical"].items()]
         lines.append(f"{name}: {contradicted}; " + "; ".join(thresholds))
     return "\n".join(lines) + "\n"
 
@@ -194,6 +207,8 @@ def main():
     parser.add_argument("--heights", type=float, nargs="+", default=[0.05, 0.1, 0.15, 0.2], help="H0 [m]")
     parser.add_argument("--width", type=float, default=0.15, help="L0 [m]")
     parser.add_argument("--cell-size", type=float, default=0.0125, help="grid cell size h [m]")
+    parser.add_argument("--nonlocal-length", type=float,
+                        help="regularize over this length ℓ [m] (default: local)")
     parser.add_argument("--cell", type=Path, default=CELL)
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
@@ -201,6 +216,8 @@ def main():
     args = parser.parse_args()
     scenes.require_whole_cells(parser, args.cell_size,
                                [("--width", args.width)] + [("--heights", height) for height in args.heights])
+    if args.nonlocal_length is not None and not args.nonlocal_length > 0:
+        parser.error(f"--nonlocal-length: expected a positive length [m], got {args.nonlocal_length}")
     if not (args.strength or args.unconfined):
         parser.error("give --strength, --unconfined or both: what predicts the critical height")
     unconfined = read_prediction(args.unconfined, args.cell, "unconfined.py")
@@ -210,8 +227,8 @@ def main():
     critical = predictions(read_prediction(args.strength, args.cell, "strength.py"), unconfined)
     args.out.mkdir(parents=True, exist_ok=True)
     for height in args.heights:
-        row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size, args.watch,
-                         args.threads)
+        row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
+                         args.nonlocal_length, args.watch, args.threads)
         print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)
