@@ -50,6 +50,17 @@ class ConvergenceTest(WorkflowTest):
         self.assertTrue(all(r[key] is not None for r in result["rows"] for key in MEASURES))
         self.assert_png(self.out / "mesh.png")
 
+        # Regularized: runs of their own, their scenes carrying the length, the noise floor still the local
+        # seeds'.
+        regularized = self.out / "regularized"
+        run(["/usr/bin/python3", WORKFLOWS / "convergence" / "mesh.py", regularized, "--build", BUILD,
+             "--spheres", "32", "--grid-factors", "2", "--end", "0.02", "--times", "0.02", "--threads", "1",
+             "--nonlocal-length", "0.2", "--noise-floor", self.out])
+        self.assertEqual(json.loads((regularized / "mesh.json").read_text())["nonlocal_length"], 0.2)
+        scene = json.loads((regularized / "scenes" / "n32_seed1_h2_nl0.2.json").read_text())
+        self.assertEqual(scene["regularization"], {"nonlocal_length": 0.2})
+        self.assertTrue((regularized / "runs" / "n32_seed1_h2_nl0.2" / "study_run.json").exists())
+
     def test_every_measure_is_the_shift_of_a_rigid_translation(self):
         # At 1 m/s, front, mass edge and centroid all advance by 1 m/s × t.
         translated = run_rigid_translation(self.out, speed=1.0, end=0.02)

@@ -16,21 +16,25 @@ MIN_RUNOUT = 0.01
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 
 
-def run_name(spheres, seed, grid_factor):
-    return f"n{spheres}_seed{seed}" + ("" if grid_factor == 1 else f"_h{grid_factor:g}")
+def run_name(spheres, seed, grid_factor, nonlocal_length=None):
+    return (f"n{spheres}_seed{seed}" + ("" if grid_factor == 1 else f"_h{grid_factor:g}")
+            + ("" if nonlocal_length is None else f"_nl{nonlocal_length:g}"))
 
 
-def run(build, out, end, threads, spheres=125, seed=1, grid_factor=1.0):
+def run(build, out, end, threads, spheres=125, seed=1, grid_factor=1.0, nonlocal_length=None):
     """Returns (series or None when the run failed before writing one, {wall_s, cpu_s, failed}). The run
     is named by what it varies, so that the studies share it: OUT/runs/n125_seed1 is the cell-size
-    study's N = 125 and the mesh study's h = 0.05 m."""
-    name = run_name(spheres, seed, grid_factor)
+    study's N = 125 and the mesh study's h = 0.05 m. With a `nonlocal_length` [m] the cells are
+    regularized over it (the scene's regularization.nonlocal_length)."""
+    name = run_name(spheres, seed, grid_factor, nonlocal_length)
     cell = json.loads(CELL.read_text())
     cell["preparation"]["spheres"], cell["preparation"]["seed"] = spheres, seed
     cell_file = out / "cells" / f"{name}.json"
     cell_file.parent.mkdir(parents=True, exist_ok=True)
     cell_file.write_text(json.dumps(cell, indent=2) + "\n")
     settings = {"/time/end": end}
+    if nonlocal_length is not None:
+        settings["/regularization"] = {"nonlocal_length": nonlocal_length}
     if grid_factor != 1:
         grid = json.loads(SCENE.read_text())["grid"]
         settings["/grid/cell_size"] = grid["cell_size"] * grid_factor

@@ -6,10 +6,12 @@ centroid. Their change between successive grids (relative to the coarser value; 
 1 cm) is set against the packing-seed spread of the same measure (--noise-floor: a cell-size study's
 OUT, by default this OUT, whose runs at N = 125 with seeds 1, 2, … on the base grid give it), the
 noise floor below which a difference means nothing. Run into the cell-size study's OUT, the two share the run at
-h = 0.05 m, N = 125.
+h = 0.05 m, N = 125. With --nonlocal-length ℓ every run is regularized over ℓ (the scene's
+regularization.nonlocal_length), the issue's remedy for a softening material's mesh dependence; the
+noise floor is still that of the local runs of --noise-floor.
 
   /usr/bin/python3 mesh.py [OUT] [--build BUILD] [--grid-factors 2 1 0.5] [--times 0.1 0.2 0.3] [--end 0.3]
-                           [--threads N] [--spheres 125] [--noise-floor CELL_SIZE_OUT]
+                           [--threads N] [--spheres 125] [--noise-floor CELL_SIZE_OUT] [--nonlocal-length ℓ]
 
 Runs finished in OUT/runs/ are kept (an interrupted study resumes). Writes OUT/mesh.csv, OUT/mesh.md,
 OUT/mesh.json and OUT/mesh.png (each measure against h).
@@ -69,17 +71,20 @@ def main():
     parser.add_argument("--end", type=float, default=0.3)
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--spheres", type=int, default=125, help="spheres per DEM cell")
+    parser.add_argument("--nonlocal-length", type=float, help="regularize every run over ℓ [m] (default: local)")
     parser.add_argument("--noise-floor", type=Path,
                         help="OUT of a cell_size.py study whose seed runs at --spheres give the spread (default: OUT)")
     args = parser.parse_args()
+    if args.nonlocal_length is not None and not args.nonlocal_length > 0:
+        parser.error(f"--nonlocal-length: expected a positive length [m], got {args.nonlocal_length}")
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
     base_h = json.loads(SCENE.read_text())["grid"]["cell_size"]
 
     rows = []
     for factor in args.grid_factors:
-        _, cost = run(build, args.out, args.end, args.threads, args.spheres, 1, factor)
-        folder = args.out / "runs" / run_name(args.spheres, 1, factor)
+        _, cost = run(build, args.out, args.end, args.threads, args.spheres, 1, factor, args.nonlocal_length)
+        folder = args.out / "runs" / run_name(args.spheres, 1, factor, args.nonlocal_length)
         for t, measures in measures_at(folder, args.times).items():
             rows.append({"h_m": base_h * factor, "t": t, **measures, "cpu_s": cost["cpu_s"],
                          "failed": cost["failed"]})
@@ -89,7 +94,9 @@ def main():
 
     sizes = [base_h * f for f in args.grid_factors]
     floors = seed_spreads(args.noise_floor or args.out, args.spheres, args.times)
-    lines, changes = [], []
+    lines = ["Local cells (no regularization)." if args.nonlocal_length is None else
+             f"Cells regularized over ℓ = {args.nonlocal_length:g} m (regularization.nonlocal_length).", ""]
+    changes = []
     for key, label in MEASURES.items():
         table, measure_changes = change_table(rows, sizes, args.times, key, label)
         lines += table
@@ -100,7 +107,7 @@ def main():
     text = "\n".join(lines)
     (args.out / "mesh.md").write_text(text)
     (args.out / "mesh.json").write_text(json.dumps(
-        {"rows": rows, "changes": changes,
+        {"nonlocal_length": args.nonlocal_length, "rows": rows, "changes": changes,
          "seed_spread": [{"measure": key, "t": t, "spread": f} for (key, t), f in floors.items()]}, indent=2))
 
     fig, axes = plt.subplots(1, len(MEASURES), figsize=(5 * len(MEASURES), 4))
