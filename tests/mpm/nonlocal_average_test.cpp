@@ -60,6 +60,13 @@ TEST(NonlocalAverage, KeepsAUniformGradientEverywhereAndALinearOneInside) {
   EXPECT_GT(inside, 100);
 }
 
+TEST(NonlocalAverage, ALengthBelowThePointSpacingLeavesEveryPointLocal) {
+  std::vector<MaterialPoint> points = lattice(0.05, 1.0);
+  for (MaterialPoint& mp : points) mp.velocity_gradient = mp.position.x() * Mat2::Identity();
+  NonlocalAverage(1e-9).apply(points);  // also: bins of 1e-9 m would be 1e18 of them
+  for (const MaterialPoint& mp : points) EXPECT_EQ(mp.velocity_gradient, mp.position.x() * Mat2::Identity());
+}
+
 TEST(NonlocalAverage, DoesNotMixMaterials) {
   std::vector<MaterialPoint> points = lattice(0.05, 1.0);
   for (MaterialPoint& mp : points) {
@@ -94,24 +101,20 @@ TEST(NonlocalAverage, DrivesABandOfOneCellAtARateSetByTheLength) {
 // transfer, which damps grid-scale motion far less than pure PIC, and with ℓ = 4 h. Points within ℓ of
 // the floor or the top see a truncated, one-sided neighbourhood and are not checked.
 TEST(NonlocalAverage, AnElasticColumnSettlesToTheGeostaticStress) {
-  const double h = 0.05, width = 0.4, height = 1.0, base = 0.1, rho = 1000, g = 9.81, length = 4 * h;
+  using Column = testing::SelfWeightColumn;
+  const double length = 4 * Column::h;
   SolverSettings settings = testing::settings_with(testing::apic_flip(5));
   settings.regularization.emplace(length);
-  Solver solver(Grid(Vec2(0, 0), h, 12, 24), settings);
-  solver.add_law(std::make_unique<ElasticLaw>(rho, Elasticity{5e6, 0.0}));
-  seed_region(solver, 0, rectangle(Vec2(0.1, base), Vec2(0.1 + width, base + height)), 2);
-  solver.add_obstacle(Obstacle(Polyline{{Vec2(-1, base), Vec2(2, base)}, false}, ContactParameters{1e6, 0, 0, 1.0}));
-  solver.set_gravity(Gravity{Vec2(0, -g), GravityRamp{Vec2::Zero(), 0.0, 0.3}});
-  const auto x0 = testing::positions_by_id(solver);
-  testing::run_until(solver, 1.5);
-  const double scale = rho * g * height;
+  const Column column(settings, 1.5);
+  const double scale = Column::rho * Column::g * Column::height;
   int checked = 0;
-  for (const MaterialPoint& mp : solver.points()) {
+  for (const MaterialPoint& mp : column.solver.points()) {
     ASSERT_TRUE(mp.position.allFinite());
-    const double y = x0.at(mp.id).y() - base;
+    const double y = column.initial_height_above_floor(mp);
     EXPECT_LT(mp.velocity.norm(), 1e-2) << "point at y = " << y;
-    if (y < length + 2 * h || y > height - length) continue;
-    EXPECT_NEAR(mp.stress.in_plane(1, 1), -rho * g * (height - y), 0.03 * scale) << "point at y = " << y;
+    if (y < length + 2 * Column::h || y > Column::height - length) continue;
+    EXPECT_NEAR(mp.stress.in_plane(1, 1), -Column::rho * Column::g * (Column::height - y), 0.03 * scale)
+        << "point at y = " << y;
     EXPECT_NEAR(mp.stress.in_plane(0, 0), 0.0, 0.03 * scale) << "point at y = " << y;
     ++checked;
   }
