@@ -41,32 +41,37 @@ void NonlocalAverage::apply(std::vector<MaterialPoint>& points) const {
     const auto [i, j] = bin_of(points[p].position);
     members[fill[static_cast<std::size_t>(j) * bins_x + i]++] = p;
   }
-  std::vector<Mat2> averaged(n);
 
+  // One pass over the neighbours gathers Σ w V_q L_q and Σ w V_q; the normalization, the largest sum,
+  // is known only after it.
   const double l2 = length_ * length_;
+  std::vector<Mat2> weighted_sum(n, Mat2::Zero());
+  std::vector<double> neighbour_weight(n, 0.0);
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     const MaterialPoint& mp = points[p];
     const auto [i, j] = bin_of(mp.position);
-    Mat2 weighted_sum = Mat2::Zero();
-    double weight = 0;
     for (int bj = std::max(j - 1, 0); bj <= std::min(j + 1, bins_y - 1); ++bj)
       for (int bi = std::max(i - 1, 0); bi <= std::min(i + 1, bins_x - 1); ++bi) {
         const std::size_t b = static_cast<std::size_t>(bj) * bins_x + bi;
         for (long k = first[b]; k < first[b + 1]; ++k) {
           const MaterialPoint& q = points[members[k]];
-          if (q.law != mp.law) continue;
+          if (members[k] == p || q.law != mp.law) continue;
           const double r2 = (q.position - mp.position).squaredNorm() / l2;
           if (r2 >= 1) continue;
           const double r = std::sqrt(r2), s = (1 - r) * (1 - r);
           const double w = s * s * (1 + 4 * r) * q.volume;
-          weighted_sum += w * q.velocity_gradient;
-          weight += w;
+          weighted_sum[p] += w * q.velocity_gradient;
+          neighbour_weight[p] += w;
         }
       }
-    averaged[p] = weighted_sum / weight;  // the point itself has r = 0: weight ≥ its volume > 0
   }
-  for (long p = 0; p < n; ++p) points[p].velocity_gradient = averaged[p];
+  double normalization = 0;  // W, the largest Σ_q w V_q, the point's own w(0) V_p included
+  for (long p = 0; p < n; ++p) normalization = std::max(normalization, points[p].volume + neighbour_weight[p]);
+  for (long p = 0; p < n; ++p) {
+    Mat2& L = points[p].velocity_gradient;
+    L += (weighted_sum[p] - neighbour_weight[p] * L) / normalization;
+  }
 }
 
 }  // namespace grainbank::mpm

@@ -10,25 +10,25 @@
 // whatever h. A DEM cell's damage lives in its bonds, out of reach of an average; its strain rate is
 // what the MPM hands it.
 //
-// The average, for point p, over the points q of the same law within ℓ (materials do not mix), p
-// itself included:
-//   L̄_p = Σ_q w(|x_p − x_q|) V_q L_q / Σ_q w(|x_p − x_q|) V_q,
+// The average, for point p, over the points q of the same law (materials do not mix):
+//   L̄_p = L_p + Σ_{q≠p} w(|x_p − x_q|) V_q (L_q − L_p) / W,   W = max_p Σ_q w(|x_p − x_q|) V_q,
 //   w(r) = (1 − r/ℓ)⁴ (1 + 4 r/ℓ) for r < ℓ, 0 beyond (Wendland's C² function).
 // Why this form:
 // - The weight is positive definite (its Fourier transform is positive; Wendland 1995, Adv. Comput.
 //   Math. 4:389), so the averaging loses stiffness at short wavelengths but never turns it negative.
 //   A truncated bell (1 − r²/ℓ²)² is not (its transform changes sign): with it, an elastic column
-//   regularized over 4 h blows up within 0.1 s (tests/mpm/nonlocal_average_test.cpp).
-// - Each point is divided by its own neighbourhood's weight (the classical form, Pijaudier-Cabot &
-//   Bažant 1987, J. Eng. Mech. 113:1512): at a free surface, a wall or a corner the point is averaged
-//   over the part of its neighbourhood inside its material. That is where a cut fails first, at its
-//   toe. The symmetric form (Borino, Failla & Parrinello 2003, Int. J. Solids Struct. 40:3621), which
-//   gives the weight a truncated neighbourhood lacks to the point itself, leaves a corner point about
-//   three-quarters local: with it, a live column that falls on a fine grid and stands on coarser
-//   ones fell just the same, its first damage at the toe point (README, "The two-scale cohesive
-//   column"). The price: near boundaries the averaging is not symmetric, so neither is the
-//   regularized stiffness; the elastic column of the tests settles all the same.
-// - Uniform fields stay exact, and linear ones wherever the neighbourhood is whole.
+//   regularized over 4 h does not settle (tests/mpm/nonlocal_average_test.cpp).
+// - One normalization W for all points, the weight a point's neighbourhood lacks (at a free surface,
+//   a wall, another material) kept by the point itself: the averaging is symmetric, V_p α_pq =
+//   V_q α_qp (Borino, Failla & Parrinello 2003, Int. J. Solids Struct. 40:3621), so it neither makes
+//   nor loses deformation (Σ V L̄ = Σ V L) and the regularized stiffness is symmetric. The classical
+//   form, each point divided by its own neighbourhood's weight, averages a boundary point over the
+//   body behind it only, and so drives it with motion that is not its own: in a live column on its
+//   floor, the bottom row then carried half its geostatic stress, in horizontal tension, and its
+//   bonds broke at the toe before the gate opened (README, "The two-scale cohesive column").
+// - Uniform fields stay exact: the weights act on differences L_q − L_p.
+// The price of the symmetric form: near a boundary the average is partly local, up to about three
+// quarters at a corner, the toe of a cut.
 //
 // What it does not do: the grid still moves with the local gradients, so a motion whose gradient
 // averages to nearly zero over ℓ (a checkerboard of grid-cell scale) meets almost no stiffness, the
