@@ -123,7 +123,7 @@ def threshold_brackets(rows):
     for label, n in groups:
         group = [r for r in rows if regularization(r) == label and round(r["height"] / r["cell_size"]) == n]
         found[f"{label}, H0/h = {n}"] = (max((r["height"] for r in group if r["stands"] is True), default=None),
-                    min((r["height"] for r in group if r["stands"] is False), default=None))
+                                         min((r["height"] for r in group if r["stands"] is False), default=None))
     return found
 
 
@@ -170,11 +170,12 @@ def report(rows, critical, verdicts, cell):
     """live_threshold.md: the runs against each prediction, then each prediction's verdict."""
     lines = [f"Cell {cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
              "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
-             "| H0 [m] | L0 [m] | h [m] | regularization | watched to t [s] | front after the gate / L0 | top drop / H0 | outcome | "
+             "| H0 [m] | L0 [m] | h [m] | regularization | watched to t [s] | front after the gate / L0 | "
+             "top drop / H0 | outcome | "
              + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
              "|---|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
-    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {regularization(r)} | {r['end']:.3f} | {r['front']:.3f} | "
-              f"{r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
+    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {regularization(r)} | {r['end']:.3f} | "
+              f"{r['front']:.3f} | {r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
               + f" | {r['cpu_s']:.0f} |" + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
     lines.append("")
     for name, v in verdicts.items():
