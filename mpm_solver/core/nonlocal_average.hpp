@@ -27,8 +27,8 @@
 //   floor, the bottom row then carried half its geostatic stress, in horizontal tension, and its
 //   bonds broke at the toe before the gate opened (README, "The two-scale cohesive column").
 // - Uniform fields stay exact: the weights act on differences L_q − L_p.
-// The price of the symmetric form: near a boundary the average is partly local, up to about three
-// quarters at a corner, the toe of a cut.
+// The price of the symmetric form: near a boundary the average is partly local, two-thirds at a
+// corner (the toe of a cut) and nearly half along an edge, for ℓ = 8 h.
 //
 // What it does not do: the grid still moves with the local gradients, so a motion whose gradient
 // averages to nearly zero over ℓ (a checkerboard of grid-cell scale) meets almost no stiffness, the
