@@ -66,8 +66,7 @@ def column_settings(scene, height, width, h, nonlocal_length):
     face = x0 + width
     origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
     cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
-    regularization = {} if nonlocal_length is None else {"/regularization": {"nonlocal_length": nonlocal_length}}
-    return {**regularization, "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
+    return {**scenes.regularization_settings(nonlocal_length)[0], "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
             "/regions/0/rectangle/max": [face, y0 + height],
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
@@ -79,7 +78,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, watch, threa
     settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length)
     end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
-    name = f"h{height:g}_l{width:g}_dx{h:g}" + ("" if nonlocal_length is None else f"_nl{nonlocal_length:g}")
+    name = f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -96,7 +95,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, watch, threa
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
            # by then, and is no verdict if it had not.
-           "stands": front < STANDING * width if not cost["failed"] else (False if front >= STANDING * width else None),
+           "stands": False if front >= STANDING * width else (None if cost["failed"] else True),
            "cpu_s": cost["cpu_s"],
            "failed": cost["failed"]}
     (out / "runs" / name / "threshold_row.json").write_text(json.dumps(row) + "\n")
@@ -208,8 +207,7 @@ def main():
     parser.add_argument("--heights", type=float, nargs="+", default=[0.05, 0.1, 0.15, 0.2], help="H0 [m]")
     parser.add_argument("--width", type=float, default=0.15, help="L0 [m]")
     parser.add_argument("--cell-size", type=float, default=0.0125, help="grid cell size h [m]")
-    parser.add_argument("--nonlocal-length", type=float,
-                        help="regularize over this length ℓ [m] (default: local)")
+    scenes.add_nonlocal_length_option(parser, "regularize over this length ℓ [m] (default: local)")
     parser.add_argument("--cell", type=Path, default=CELL)
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
@@ -217,8 +215,6 @@ def main():
     args = parser.parse_args()
     scenes.require_whole_cells(parser, args.cell_size,
                                [("--width", args.width)] + [("--heights", height) for height in args.heights])
-    if args.nonlocal_length is not None and not args.nonlocal_length > 0:
-        parser.error(f"--nonlocal-length: expected a positive length [m], got {args.nonlocal_length}")
     if not (args.strength or args.unconfined):
         parser.error("give --strength, --unconfined or both: what predicts the critical height")
     unconfined = read_prediction(args.unconfined, args.cell, "unconfined.py")

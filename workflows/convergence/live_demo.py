@@ -18,7 +18,7 @@ CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 
 def run_name(spheres, seed, grid_factor, nonlocal_length=None):
     return (f"n{spheres}_seed{seed}" + ("" if grid_factor == 1 else f"_h{grid_factor:g}")
-            + ("" if nonlocal_length is None else f"_nl{nonlocal_length:g}"))
+            + scenes.regularization_settings(nonlocal_length)[1])
 
 
 def run(build, out, end, threads, spheres=125, seed=1, grid_factor=1.0, nonlocal_length=None):
@@ -32,9 +32,7 @@ def run(build, out, end, threads, spheres=125, seed=1, grid_factor=1.0, nonlocal
     cell_file = out / "cells" / f"{name}.json"
     cell_file.parent.mkdir(parents=True, exist_ok=True)
     cell_file.write_text(json.dumps(cell, indent=2) + "\n")
-    settings = {"/time/end": end}
-    if nonlocal_length is not None:
-        settings["/regularization"] = {"nonlocal_length": nonlocal_length}
+    settings = {"/time/end": end, **scenes.regularization_settings(nonlocal_length)[0]}
     if grid_factor != 1:
         grid = json.loads(SCENE.read_text())["grid"]
         settings["/grid/cell_size"] = grid["cell_size"] * grid_factor

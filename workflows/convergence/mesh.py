@@ -25,7 +25,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, tables  # noqa: E402
+from plotting import environment, scenes, tables  # noqa: E402
 from plotting.figures import finish_and_save, plt  # noqa: E402
 from matplotlib.ticker import NullFormatter  # noqa: E402
 from live_demo import MEASURES, MIN_RUNOUT, SCENE, measures_at, run, run_name, spread  # noqa: E402
@@ -71,12 +71,10 @@ def main():
     parser.add_argument("--end", type=float, default=0.3)
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--spheres", type=int, default=125, help="spheres per DEM cell")
-    parser.add_argument("--nonlocal-length", type=float, help="regularize every run over ℓ [m] (default: local)")
+    scenes.add_nonlocal_length_option(parser, "regularize every run over ℓ [m] (default: local)")
     parser.add_argument("--noise-floor", type=Path,
                         help="OUT of a cell_size.py study whose seed runs at --spheres give the spread (default: OUT)")
     args = parser.parse_args()
-    if args.nonlocal_length is not None and not args.nonlocal_length > 0:
-        parser.error(f"--nonlocal-length: expected a positive length [m], got {args.nonlocal_length}")
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
     base_h = json.loads(SCENE.read_text())["grid"]["cell_size"]

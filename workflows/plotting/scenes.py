@@ -2,9 +2,28 @@
 library, material keys merged in, any scene key set. The one generator is `mpm_solver scene`
 (mpm_solver/app/scene_overrides.hpp), which knows each law's keys; this only calls it.
 """
+import argparse
 import json
 import subprocess
 from pathlib import Path
+
+
+def add_nonlocal_length_option(parser, help_text):
+    """Adds --nonlocal-length ℓ [m] to `parser`: a positive length, or None (local cells) when absent."""
+    def positive_length(text):
+        value = float(text)
+        if not value > 0:
+            raise argparse.ArgumentTypeError(f"expected a positive length [m], got {text}")
+        return value
+    parser.add_argument("--nonlocal-length", type=positive_length, help=help_text)
+
+
+def regularization_settings(nonlocal_length):
+    """({JSON pointer: value} regularizing a scene over `nonlocal_length` [m] (the scene's
+    regularization.nonlocal_length), the suffix naming such a run); ({}, "") for None, a local run."""
+    if nonlocal_length is None:
+        return {}, ""
+    return {"/regularization": {"nonlocal_length": nonlocal_length}}, f"_nl{nonlocal_length:g}"
 
 
 def require_whole_cells(parser, cell_size, lengths):
