@@ -1,5 +1,7 @@
 #include "database/surrogate/reindex.hpp"
 
+#include <stdexcept>
+
 #include "database/store/error.hpp"
 #include "database/store/library.hpp"
 
@@ -10,11 +12,17 @@ PointState point_state(const db::Record& record) {
 }
 
 std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
-                                 const FeatureConstants& constants) {
+                                 const FeatureConstants& constants, std::size_t span) {
+  if (span < 1) throw std::invalid_argument("sample span: expected at least one interval");
   std::vector<Sample> samples;
   for (std::size_t k = 0; k + 1 < records.size(); ++k) {
     const db::Record& before = records[k];
-    const db::Record& after = records[k + 1];
+    // Record k+1 holds the L of interval k; the sample reaches on while the next intervals share it.
+    std::size_t last = k + 1;
+    while (last - k < span && last + 1 < records.size() && records[last + 1].L == records[k + 1].L &&
+           records[last + 1].time > records[last].time)
+      ++last;
+    const db::Record& after = records[last];
     const double dt = after.time - before.time;
     if (!(dt > 0) || (after.L + after.L.transpose()).norm() == 0) continue;
     samples.push_back(make_sample(point_state(before), point_state(after), after.L, dt, constants,
@@ -40,11 +48,11 @@ FeatureConstants library_constants(db::Library& library) {
   return c;
 }
 
-Dataset reindex(db::Library& library) {
+Dataset reindex(db::Library& library, std::size_t span) {
   Dataset dataset{library_constants(library), {}};
   for (const db::PathRow& path : library.catalogue().paths()) {
     if (path.status != db::PathStatus::done || path.record_count < 2) continue;
-    const std::vector<Sample> samples = path_samples(path.id, library.records(path.id), dataset.constants);
+    const std::vector<Sample> samples = path_samples(path.id, library.records(path.id), dataset.constants, span);
     dataset.samples.insert(dataset.samples.end(), samples.begin(), samples.end());
   }
   return dataset;

@@ -19,6 +19,7 @@ struct CouplingCounters {
   std::uint64_t live_updates = 0;       // point-steps computed by a live cell of a hybrid point
   std::uint64_t went_live = 0;          // hybrid points that turned live (warm start or replay)
   std::uint64_t went_live_on_budget = 0;  // of those, surrogate points whose error budget was spent
+  std::uint64_t reanchored = 0;  // surrogate points whose spent error budget re-anchored them on a cell
   std::uint64_t returned_to_cache = 0;  // live points handed back to the cache (hysteresis)
   std::uint64_t warm_start_increments = 0;  // DEM increments run to bring new live cells to their F
   std::uint64_t warm_start_servo_steps = 0;  // DEM steps of the stress servo of state warm starts
@@ -33,7 +34,7 @@ struct CouplingCounters {
 
   CouplingCounters& operator+=(const CouplingCounters& o) {
     hits += o.hits, misses += o.misses, live_updates += o.live_updates, went_live += o.went_live;
-    went_live_on_budget += o.went_live_on_budget;
+    went_live_on_budget += o.went_live_on_budget, reanchored += o.reanchored;
     returned_to_cache += o.returned_to_cache, warm_start_increments += o.warm_start_increments;
     warm_start_servo_steps += o.warm_start_servo_steps, servo_unconverged += o.servo_unconverged;
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;

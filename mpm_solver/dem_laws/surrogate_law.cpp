@@ -43,6 +43,7 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
   if (!(settings_.tolerance >= 0)) throw std::invalid_argument("tolerance: expected a number >= 0 [Pa]");
   if (settings_.return_after < 0) throw std::invalid_argument("return_after: expected an integer >= 0");
   if (!(settings_.error_budget > 0)) throw std::invalid_argument("error_budget: expected a positive number [Pa]");
+  if (settings_.sample_span < 1) throw std::invalid_argument("sample_span: expected an integer >= 1");
   const dem::CellMeasures m = cell_template.measures();
   template_state_ = state_of(m.stress, m);
   index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_.surrogate),
@@ -80,16 +81,8 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     // went live to end a drift, and one step within the tolerance shows the drift is ended.
     const int steps_to_return = p.budget_spell ? 1 : settings_.return_after;
     if (settings_.return_after > 0 && p.steps_inside >= steps_to_return) {
-      // The point keeps the cell's state, and the cell for its next live spell.
-      if (p.cell_is_exact) {
-        p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
-        p.checkpoint_at = p.history.size();
-      }
-      if (warm_start_) {
-        p.parked = std::move(p.cell);
-        p.parked_state = p.state;
-      }
-      p.cell.reset();
+      // The point keeps the cell's state.
+      park(p);
       --live_points_;
       p.steps_inside = 0;
       ++p.counters.returned_to_cache;
@@ -97,12 +90,17 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     return;
   }
 
-  const surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+  surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
   const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
-  if (!step.hit || budget_spent) {
+  if (budget_spent && warm_start_) {
+    reanchor(p);
+    step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+  }
+  const bool spell_on_budget = budget_spent && !warm_start_;
+  if (!step.hit || spell_on_budget) {
     ++p.counters.misses;
-    if (budget_spent) ++p.counters.went_live_on_budget;
-    p.budget_spell = budget_spent;
+    if (spell_on_budget) ++p.counters.went_live_on_budget;
+    p.budget_spell = spell_on_budget;
     go_live(p);
     advance_live(slot, p, increment, L, stress);
     return;
@@ -116,7 +114,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   p.error = step.estimated_error;
 }
 
-void SurrogateLaw::go_live(Point& p) {
+void SurrogateLaw::start_cell(Point& p) {
   const auto start = std::chrono::steady_clock::now();
   // The history already holds this step's increment, which advance_live applies.
   const auto before_this_step = p.history.end() - 1;
@@ -139,12 +137,35 @@ void SurrogateLaw::go_live(Point& p) {
     p.cell_is_exact = true;
   }
   p.spent = 0;
+  p.span.clear();
   const dem::CellMeasures m = p.cell->measures();
   p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
+  p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SurrogateLaw::go_live(Point& p) {
+  start_cell(p);
   p.steps_inside = 0;
   ++live_points_;
   ++p.counters.went_live;
-  p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void SurrogateLaw::reanchor(Point& p) {
+  start_cell(p);
+  park(p);
+  ++p.counters.reanchored;
+}
+
+void SurrogateLaw::park(Point& p) {
+  if (p.cell_is_exact) {
+    p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
+    p.checkpoint_at = p.history.size();
+  }
+  if (warm_start_) {
+    p.parked = std::move(p.cell);
+    p.parked_state = p.state;
+  }
+  p.cell.reset();
 }
 
 void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
@@ -156,10 +177,20 @@ void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncre
   p.source = StressSource::live;
   p.error = 0;
   ++p.counters.live_updates;
+  p.span.push_back({before, L, increment.dt});
+  if (p.span.size() > settings_.sample_span) p.span.erase(p.span.begin());
+  dem::Mat3 L_dt = dem::Mat3::Zero();
+  double duration = 0;
+  for (const Point::SpanStep& s : p.span) {
+    L_dt += s.L * s.dt;
+    duration += s.dt;
+  }
   // A rest or a pure spin has no rate per |D| (rate_answer.hpp): nothing to learn.
-  if (increment.dt > 0 && (L + L.transpose()).norm() > 0)
+  if (duration <= 0) return;
+  const dem::Mat3 mean_L = p.span.size() == 1 ? L : dem::Mat3(L_dt / duration);
+  if ((mean_L + mean_L.transpose()).norm() > 0)
     p.learned_this_step.push_back(surrogate::make_sample(
-        before, p.state, L, increment.dt, index_->constants(),
+        p.span.front().before, p.state, mean_L, duration, index_->constants(),
         {-static_cast<std::int64_t>(slot) - 1, static_cast<std::int64_t>(p.history.size()) - 1}));
 }
 
@@ -198,12 +229,14 @@ namespace {
 // budget (0/1); live cells as "cell_<slot>"; the replay histories as append_history writes them;
 // the learned samples as rows features, answer, origin path, origin record, in insertion order;
 // per kept cell: slot and the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per
-// checkpoint: slot and the increments it has seen, the cell as "checkpoint_<slot>".
+// checkpoint: slot and the increments it has seen, the cell as "checkpoint_<slot>"; per step of a live
+// cell's sample span, in order: slot, the state before it (σ, φ, Z, D), L (9, row-major), dt.
 constexpr std::size_t kStateColumns = 12;
 constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
 constexpr std::size_t kParkedColumns = 1 + kStateColumns;
 constexpr std::size_t kCheckpointColumns = 2;
+constexpr std::size_t kSpanColumns = 1 + kStateColumns + 9 + 1;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 std::string parked_cell_name(std::size_t slot) { return "parked_" + std::to_string(slot); }
 std::string checkpoint_cell_name(std::size_t slot) { return "checkpoint_" + std::to_string(slot); }
@@ -227,7 +260,7 @@ surrogate::PointState state_from(const double* row) {
 }  // namespace
 
 void SurrogateLaw::save_state(LawStateWriter& out) const {
-  std::vector<double> rows, history, samples, parked, checkpoints;
+  std::vector<double> rows, history, samples, parked, checkpoints, span;
   for (std::size_t slot = 0; slot < points_.size(); ++slot) {
     const Point& p = points_[slot];
     rows.push_back(double(slot));
@@ -245,6 +278,13 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
       checkpoints.insert(checkpoints.end(), {double(slot), double(p.checkpoint_at)});
       out.write_cell(checkpoint_cell_name(slot), *p.checkpoint);
     }
+    for (const Point::SpanStep& step : p.span) {
+      span.push_back(double(slot));
+      append_state(span, step.before);
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) span.push_back(step.L(i, j));
+      span.push_back(step.dt);
+    }
   }
   for (const surrogate::Sample& s : learned_) {
     samples.insert(samples.end(), s.features.begin(), s.features.end());
@@ -256,6 +296,7 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
   out.write_table("surrogate_learned", samples, kSampleColumns);
   out.write_table("surrogate_parked", parked, kParkedColumns);
   out.write_table("surrogate_checkpoints", checkpoints, kCheckpointColumns);
+  out.write_table("surrogate_span", span, kSpanColumns);
 }
 
 void SurrogateLaw::restore_state(LawStateReader& in) {
@@ -297,6 +338,18 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     p.checkpoint_at = static_cast<std::size_t>(checkpoints[r + 1]);
     p.checkpoint = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(checkpoint_cell_name(slot))));
   }
+  for (Point& p : points_) p.span.clear();
+  // A restart file written before samples had spans has none: its samples spanned one step.
+  const std::vector<double> span =
+      in.has_table("surrogate_span") ? in.read_table("surrogate_span", kSpanColumns) : std::vector<double>{};
+  for (std::size_t r = 0; r < span.size(); r += kSpanColumns) {
+    Point::SpanStep step;
+    step.before = state_from(&span[r + 1]);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) step.L(i, j) = span[r + 1 + kStateColumns + 3 * i + j];
+    step.dt = span[r + kSpanColumns - 1];
+    points_.at(static_cast<std::size_t>(span[r])).span.push_back(step);
+  }
   const std::vector<double> table = in.read_table("surrogate_learned", kSampleColumns);
   std::vector<surrogate::Sample> samples;
   for (std::size_t r = 0; r < table.size(); r += kSampleColumns) {
@@ -317,11 +370,12 @@ using common::JsonNode;
 using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
-// (the library must have its material), "error_budget" [Pa], "k", "fallback": {"return_after",
+// (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback": {"return_after",
 // "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
 // "servo_inertial_number", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
-                                      "error_budget", "k",  "substepping", "q_h", "retiling", "fallback"};
+                                      "error_budget", "k",  "sample_span", "substepping", "q_h", "retiling",
+                                      "fallback"};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;
@@ -329,6 +383,8 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.tolerance = material.number("tolerance", Range::at_least(0));
   s.error_budget = material.number_or("error_budget", s.error_budget, Range::positive());
   s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
+  s.sample_span = static_cast<std::size_t>(
+      material.integer_or("sample_span", static_cast<std::int64_t>(s.sample_span), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
                           "unconverged"});
@@ -357,7 +413,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   std::vector<StateSnapshot> snapshots;
   try {
     link = std::make_unique<LibraryLink>(scene.folder / lib.string(), id, expected ? &*expected : nullptr);
-    dataset = link->locked([](db::Library& library) { return surrogate::reindex(library); });
+    dataset = link->locked([&](db::Library& library) { return surrogate::reindex(library, s.sample_span); });
     if (s.warm_start == SurrogateLawSettings::WarmStart::state) snapshots = link->state_snapshots();
   } catch (const db::StoreError& e) {
     lib.fail(e.what());

@@ -7,10 +7,15 @@
 // - Each update of a point that is not live takes surrogate_step for its state under the
 //   increment's L: when the estimated error of the step's stress [Pa] is within `tolerance` the
 //   point's state advances with the predicted answer (source hit); otherwise the point goes live.
-// - A point also goes live when its step would spend past the error budget: the estimated errors it
-//   has summed since its last live spell. The spell starts as warm_start says. By replay it ends the
-//   drift; by state it carries the drifted stress into a cell, which the live spell then advances
-//   by the cell's own response (and which cannot carry a stress past what its packing holds).
+// - A step that would spend past the error budget (the estimated errors the point has summed since
+//   its last live spell or re-anchoring) is not taken as it is. With warm_start "state" the point is
+//   re-anchored: a cell is started as for a live spell (below: the nearest stored cell, or the
+//   point's own, servoed to its stress), the point takes that cell's state (its stress as far as the
+//   packing can carry it, its φ, Z and D) and keeps the cell for its next start, and the step is
+//   asked again from that state. No live step is run: the drift the budget guards against is a
+//   state no cell carries (stop 40: a column that stood because its points drifted to a strength
+//   no cell has), and the servo finds it. With warm_start "replay" the point goes live instead, and
+//   the replay ends the drift exactly.
 // - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.
@@ -24,21 +29,24 @@
 //   increments (exact: the cell a live-law point would own). A live cell answers
 //   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.
-// - Every live step's response (the cell's state before and after, under the increment's L) enters
-//   the index as a new sample at the end of its step (end_step, issue 13, item 4), so the next
-//   step's queries near it may hit. Its origin is path −(slot + 1), record = the index of the
-//   increment in the point's history. The step's samples enter in slot order: a run is the same on
-//   any number of threads.
+// - Every live step's response enters the index as a new sample at the end of its step (end_step,
+//   issue 13, item 4), so the next step's queries near it may hit: the cell's state `sample_span`
+//   steps before (or at the start of the spell, if that is nearer) and now, under the mean L of
+//   those steps over their duration, as the library's samples span up to `sample_span` recorded
+//   intervals (reindex.hpp, which says why). Its origin is path −(slot + 1), record = the index of
+//   the increment in the point's history. The step's samples enter in slot order: a run is the same
+//   on any number of threads.
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live); after one such step when the spell was started by
-//   the spent budget (the surrogate could answer it). It keeps that cell: its next state warm start
+//   the spent budget (by replay: the surrogate could answer it). It keeps that cell: its next state warm start
 //   begins from it when it is at least as near to the point's state as every stored snapshot.
 // - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
-//   cell, kept cell and checkpoint, and the samples learned so far: a restart continues bit for bit.
+//   cell, kept cell, checkpoint and the steps a learned sample spans, and the samples learned so far:
+//   a restart continues bit for bit.
 #pragma once
 #include <atomic>
 #include <limits>
@@ -59,10 +67,13 @@ struct SurrogateLawSettings {
   double tolerance = 0;  // [Pa] estimated error of one step's stress above which a point goes live
   surrogate::SurrogateOptions surrogate;  // k (and the local fit's ridge)
   int return_after = 0;   // live steps within the tolerance before a point returns to the surrogate
-  // [Pa] the sum of a point's estimated step errors since its last live spell may not exceed this:
-  // a step that would exceed it goes live instead (issue 13: an error budget per point over the
-  // run, so small errors cannot drift unchecked). Infinite: no budget.
+  // [Pa] the sum of a point's estimated step errors since its last live spell or re-anchoring may
+  // not exceed this: a step that would exceed it re-anchors the point (or goes live, by replay)
+  // first (issue 13: an error budget per point over the run, so small errors cannot drift
+  // unchecked). Infinite: no budget.
   double error_budget = std::numeric_limits<double>::infinity();
+  // Steps (and recorded intervals of the library) one sample's rate spans, ≥ 1 (reindex.hpp).
+  std::size_t sample_span = 1;
   LiveDemSettings live;   // of the live cells
   enum class WarmStart { state, replay } warm_start = WarmStart::state;
   // Of the state warm start; a stress_tolerance of 0 means `tolerance` (and with both 0, replay).
@@ -124,10 +135,22 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     double spent = 0;                         // [Pa] estimated errors summed since the last live spell
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
     std::vector<surrogate::Sample> learned_this_step;  // inserted by end_step
+    // The live cell's last `sample_span` steps: the state before each, its L and dt.
+    struct SpanStep {
+      surrogate::PointState before;
+      dem::Mat3 L;
+      double dt = 0;
+    };
+    std::vector<SpanStep> span;
     CouplingCounters counters;
   };
 
+  // A cell for the point (state warm start, or replay), whose state the point takes.
+  void start_cell(Point& p);
   void go_live(Point& p);
+  void reanchor(Point& p);
+  // The point gives its live cell up, keeping it for its next start (and as a checkpoint when exact).
+  void park(Point& p);
   void advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
                     PointStress& stress);
   void learn(const std::vector<surrogate::Sample>& samples);

@@ -44,6 +44,7 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"warm_start_servo_steps", c.warm_start_servo_steps},
                     {"servo_unconverged", c.servo_unconverged},
                     {"went_live_on_budget", c.went_live_on_budget},
+                    {"reanchored", c.reanchored},
                     {"warm_start_seconds", c.warm_start_seconds},
                     {"enriched_paths", c.enriched_paths},
                     {"enriched_records", c.enriched_records},

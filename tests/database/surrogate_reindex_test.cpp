@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "database/store/library.hpp"
 #include "tests/database/surrogate_test_util.hpp"
@@ -48,6 +49,40 @@ TEST(SurrogateReindex, AnExistingLibraryReindexes) {
   EXPECT_EQ(dataset.samples.size(), expected);
   EXPECT_EQ(checked, expected);
   EXPECT_GT(expected, 50u);
+}
+
+// With a span of three intervals each sample still starts at its own record, reaches up to three
+// intervals further while the loading stays the same and never across a change of it (the generated
+// paths change L between their two segments, the replayed one at every record), and its answer is
+// the mean rate that takes its first record to its last.
+TEST(SurrogateReindex, ASampleSpansIntervalsOfOneLoadingOnly) {
+  const test::TempDir dir("grainbank-surrogate-span");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", sampler::test::kPaths);
+  constexpr std::size_t kSpan = 3;
+  const Dataset single = reindex(library), spanned = reindex(library, kSpan);
+  ASSERT_EQ(spanned.samples.size(), single.samples.size()) << "one sample per interval, as before";
+  std::size_t longer = 0, shortened = 0;
+  for (const db::PathRow& path : library.catalogue().paths()) {
+    const std::vector<db::Record> records = library.records(path.id);
+    for (const Sample& s : spanned.samples) {
+      if (s.origin.path_id != path.id) continue;
+      const auto k = static_cast<std::size_t>(s.origin.record_index);
+      const db::Record& before = records.at(k);
+      // The furthest record within the span whose intervals all share interval k's L.
+      std::size_t last = k + 1;
+      while (last < k + kSpan && last + 1 < records.size() && records[last + 1].L == records[k + 1].L) ++last;
+      (last - k == kSpan ? longer : shortened) += 1;
+      const PointState end = advance(point_state(before), records[k + 1].L, records[last].time - before.time, s.answer,
+                                     spanned.constants);
+      const dem::Mat3 target = db::from_stress6(records[last].stress);
+      for (const auto& [r, c] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 1}})
+        EXPECT_NEAR(end.stress(r, c), target(r, c), 1e-9 * target.norm()) << "path " << path.id << " record " << k;
+      EXPECT_NEAR(end.coordination, records[last].coordination, 1e-9);
+    }
+  }
+  EXPECT_GT(longer, shortened) << "most samples span the whole span";
+  EXPECT_GT(shortened, 0u) << "the samples before a change of loading stop at it";
+  EXPECT_THROW(reindex(library, 0), std::invalid_argument);
 }
 
 TEST(SurrogateReindex, ALibraryWithoutATemplateIsRefusedByName) {
