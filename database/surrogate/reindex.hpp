@@ -10,8 +10,8 @@
 //   record of the run of intervals that share interval k's L: its answer is the mean rate over up to
 //   s intervals of one L, so a stored interval still starts each sample and no sample crosses a
 //   change of loading. Why: a small cell's stress fluctuates from record to record by about as much
-//   as it changes in flow (the demo's 250-sphere cell in steady shear at 1 kPa and 3 /s: 71 Pa rms
-//   per 0.1 ms against a mean change of zero). A cell of another packing fluctuates as much, so the
+//   as it changes in flow (the 125-sphere soft-snow cell in steady shear at 1 kPa and 3 /s: 71 Pa
+//   rms per 0.1 ms against a mean change of zero). A cell of another packing fluctuates as much, so the
 //   fluctuation is not what the surrogate should learn, nor what its error estimate should count;
 //   averaged over s intervals it falls about s times.
 // - Only committed records of `done` paths are read (as the nearest-state index does); nothing is

@@ -18,8 +18,8 @@ struct CouplingCounters {
   std::uint64_t hits = 0, misses = 0;   // lookups answered within / beyond the tolerance
   std::uint64_t live_updates = 0;       // point-steps computed by a live cell of a hybrid point
   std::uint64_t went_live = 0;          // hybrid points that turned live (warm start or replay)
-  std::uint64_t went_live_on_budget = 0;  // of those, surrogate points whose error budget was spent
-  std::uint64_t reanchored = 0;  // surrogate points whose spent error budget re-anchored them on a cell
+  std::uint64_t went_live_on_budget = 0;  // of those, surrogate points sent live by a spent error budget (replay)
+  std::uint64_t reanchored = 0;  // surrogate points re-anchored on a servoed cell by a spent error budget
   std::uint64_t returned_to_cache = 0;  // live points handed back to the cache (hysteresis)
   std::uint64_t warm_start_increments = 0;  // DEM increments run to bring new live cells to their F
   std::uint64_t warm_start_servo_steps = 0;  // DEM steps of the stress servo of state warm starts

@@ -28,6 +28,8 @@ class GeneralizationTest(WorkflowTest):
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):
             self.assertIn(key, scene)
+        # The headline is the state key with its error budget, the demo's setting.
+        self.assertEqual(scene["cpu_ratio_to_live"], scene["runs"]["surrogate_budget"]["cpu_ratio_to_live"])
         self.assertEqual(sorted(scene["runs"]), ["hybrid", "live", "live_seed", "surrogate", "surrogate_budget"])
         for name, r in scene["runs"].items():
             self.assertEqual(r["failed"], "", name)

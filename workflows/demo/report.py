@@ -39,6 +39,8 @@ def summarise(out, timestamps):
         "hit_rate_of_lookups": float(series["hits"][rows].sum() / lookups) if lookups else 0.0,
         "fraction_answered_by_hits": float(series["hits"][rows].sum() / point_rows) if point_rows else 0.0,
         "went_live": int(series["went_live"][-1]),
+        # Surrogate points whose spent error budget re-anchored them on a servoed cell (no live step).
+        "reanchored": int(sum(law.get("reanchored", 0) for law in laws)),
         "live_cells_at_end": int(series["live_cells"][-1]),
         "runout_m": float(series["front"][-1] - series["front"][0]),
         "front_m": {"initial": float(series["front"][0]), "final": float(series["front"][-1])},
@@ -86,7 +88,7 @@ def text(report, figures):
         f"  library: {lib['templates']} template(s), {lib['paths']} paths, {lib['records']} records",
         f"  hit rate among lookups {report['hit_rate_of_lookups']:.3f}; point-steps answered by a hit "
         f"{report['fraction_answered_by_hits']:.3f}; points that went live {report['went_live']}, "
-        f"live at the end {report['live_cells_at_end']}",
+        f"re-anchored {report['reanchored']}, live at the end {report['live_cells_at_end']}",
         f"  front {report['front_m']['initial']:.3f} -> {report['front_m']['final']:.3f} m "
         f"(runout {report['runout_m']:.3f} m), height {report['height_m']['initial']:.3f} -> "
         f"{report['height_m']['final']:.3f} m, largest speed {report['max_velocity_m_s']:.3g} m/s",
