@@ -39,8 +39,9 @@
 // - A live point returns to the surrogate, with the cell's σ, φ, Z and D, after `return_after`
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live); after one such step when the spell was started by
-//   the spent budget (by replay: the surrogate could answer it). It keeps that cell: its next state warm start
-//   begins from it when it is at least as near to the point's state as every stored snapshot.
+//   the spent budget (by replay: the surrogate could answer it). It keeps that cell: its next state
+//   warm start begins from it when it is at least as near to the point's state as every stored
+//   snapshot.
 // - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
@@ -132,7 +133,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     bool cell_is_exact = false;               // the live cell was started by replay
     bool budget_spell = false;                // the live spell was started by the spent budget
     int steps_inside = 0;                     // consecutive live steps within the tolerance
-    double spent = 0;                         // [Pa] estimated errors summed since the last live spell
+    double spent = 0;  // [Pa] estimated errors summed since the last live spell or re-anchoring
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
     std::vector<surrogate::Sample> learned_this_step;  // inserted by end_step
     // The live cell's last `sample_span` steps: the state before each, its L and dt.
