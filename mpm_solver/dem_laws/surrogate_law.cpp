@@ -179,6 +179,10 @@ void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncre
   ++p.counters.live_updates;
   p.span.push_back({before, L, increment.dt});
   if (p.span.size() > settings_.sample_span) p.span.erase(p.span.begin());
+  learn_span(slot, p);
+}
+
+void SurrogateLaw::learn_span(std::size_t slot, Point& p) {
   dem::Mat3 L_dt = dem::Mat3::Zero();
   double duration = 0;
   for (const Point::SpanStep& s : p.span) {
@@ -187,7 +191,8 @@ void SurrogateLaw::advance_live(std::size_t slot, Point& p, const KinematicIncre
   }
   // A rest or a pure spin has no rate per |D| (rate_answer.hpp): nothing to learn.
   if (duration <= 0) return;
-  const dem::Mat3 mean_L = p.span.size() == 1 ? L : dem::Mat3(L_dt / duration);
+  // One step is learned under its own L, not (L dt)/dt, which may differ in the last bit.
+  const dem::Mat3 mean_L = p.span.size() == 1 ? p.span.front().L : dem::Mat3(L_dt / duration);
   if ((mean_L + mean_L.transpose()).norm() > 0)
     p.learned_this_step.push_back(surrogate::make_sample(
         p.span.front().before, p.state, mean_L, duration, index_->constants(),

@@ -154,6 +154,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   void park(Point& p);
   void advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
                     PointStress& stress);
+  // The sample of the point's span: its first state to now, under the span's mean L.
+  void learn_span(std::size_t slot, Point& p);
   void learn(const std::vector<surrogate::Sample>& samples);
 
   SurrogateLawSettings settings_;

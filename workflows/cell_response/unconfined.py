@@ -101,7 +101,8 @@ def main():
             f"{args.strain_rate:g} /s: " + ("" if peak_reached else
                                             f"NO PEAK by platen strain {args.strain:g} (raise --strain): ")
             + f"q_u {'=' if peak_reached else '≥'} {q_u:.0f} Pa at platen strain {peak['strain']:.2e} "
-            f"(points {peak['compression_min']:.0f}–{peak['compression_max']:.0f} Pa, mean σ_xx {-peak['lateral']:.0f} Pa, "
+            f"(points {peak['compression_min']:.0f}–{peak['compression_max']:.0f} Pa, "
+            f"mean σ_xx {-peak['lateral']:.0f} Pa, "
             f"damage {peak['damage']:.2f}); at the end {rows[-1]['compression']:.0f} Pa, "
             f"damage {rows[-1]['damage']:.2f}. "
             f"ρ = {density:.0f} kg/m³; highest vertical cut: "

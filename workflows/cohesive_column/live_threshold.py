@@ -66,7 +66,8 @@ def column_settings(scene, height, width, h, nonlocal_length):
     face = x0 + width
     origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
     cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
-    return {**scenes.regularization_settings(nonlocal_length)[0], "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
+    return {**scenes.regularization_settings(nonlocal_length)[0],
+            "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
             "/regions/0/rectangle/max": [face, y0 + height],
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
