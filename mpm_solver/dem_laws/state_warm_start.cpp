@@ -63,10 +63,11 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
 
 WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model,
                                        const std::optional<OwnCell>& own) const {
-  const std::size_t index = nearest(state);
-  const StateKey q = key(state);
-  const bool from_own = own && not_more_damaged(own->state, own->cell.initial_bond_count(), state) &&
-                        distance(key(own->state), q) <= distance(keys_[index], q);
+  // The point's own cell whenever it may start it: the state key's distance does not tell how far a
+  // foreign packing is from the point's (a snapshot nearer in key than the own cell needed 7× its
+  // servo steps, stop 46).
+  const bool from_own = own && not_more_damaged(own->state, own->cell.initial_bond_count(), state);
+  const std::size_t index = from_own ? 0 : nearest(state);
   dem::DemCell cell = from_own ? own->cell : model.cell_from(snapshots_[index].cell);
   const dem::StressServoResult result = servo(cell, state, model);
   return {std::move(cell), index, from_own, result};

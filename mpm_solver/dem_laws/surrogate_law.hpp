@@ -9,8 +9,8 @@
 //   point's state advances with the predicted answer (source hit); otherwise the point goes live.
 // - A step that would spend past the error budget (the estimated errors the point has summed since
 //   its last live spell or re-anchoring) is not taken as it is. With warm_start "state" the point is
-//   re-anchored: a cell is started as for a live spell (below: the nearest stored cell, or the
-//   point's own, servoed to its stress), the point takes that cell's state (its stress as far as the
+//   re-anchored: a cell is started as for a live spell (below: the point's own former cell, or the
+//   nearest stored cell, servoed to its stress), the point takes that cell's state (its stress as far as the
 //   packing can carry it, its φ, Z and D) and keeps the cell for its next start, and the step is
 //   asked again from that state. No live step is run: the drift the budget guards against is a
 //   state no cell carries (stop 40: a column that stood because its points drifted to a strength
@@ -19,8 +19,8 @@
 // - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.
-// - Going live with warm_start "state" (the default): the point's cell is the
-//   stored cell nearest in state (the library's snapshots of the template's paths, and the template
+// - Going live with warm_start "state" (the default): the point's cell is its own former cell
+//   (below), or, for a point without one, the stored cell nearest in state (the library's snapshots of the template's paths, and the template
 //   itself) brought to the point's stress by the stress servo (state_warm_start.hpp), so its cost
 //   does not grow with the run. The point then carries the cell's state: its own σ (within
 //   stress_tolerance), the snapshot's φ, Z and D; a servo that does not converge leaves the stress
@@ -40,8 +40,8 @@
 //   consecutive live steps whose surrogate estimate (asked before the step's sample is inserted)
 //   was within the tolerance (0: it stays live); after one such step when the spell was started by
 //   the spent budget (by replay: the surrogate could answer it). It keeps that cell: its next state
-//   warm start begins from it when it is at least as near to the point's state as every stored
-//   snapshot.
+//   warm start begins from it unless the cell has more broken bonds than the point
+//   (state_warm_start.hpp).
 // - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.

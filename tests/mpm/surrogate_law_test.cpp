@@ -373,10 +373,11 @@ TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
   EXPECT_GE(damaged, 5) << "the library should hold damaged snapshots to test with";
 }
 
-// A point that handed its cell back starts its next live spell from that cell when it is nearer
-// than every snapshot: the cell then already carries the point's stress and needs one servo window,
-// where a snapshot needed more. A kept cell with more broken bonds than the point is not taken.
-TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellWhenItIsNearest) {
+// A point that handed its cell back starts its next live spell from that cell, even when a snapshot
+// is nearer in the state key: the cell already carries the point's stress and fabric and needs one
+// servo window, where a snapshot needed more. A kept cell with more broken bonds than the point is
+// not taken.
+TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCell) {
   auto law = surrogate_law(settings(200));
   const StateWarmStart* warm = law->state_warm_start();
   ASSERT_NE(warm, nullptr);
@@ -392,6 +393,12 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellWhenItIsNearest) {
     EXPECT_TRUE(again.own) << "record " << k;
     EXPECT_TRUE(again.servo.converged) << "record " << k;
     EXPECT_LT(again.servo.steps, first.servo.steps) << "record " << k;
+    // Handed back at a state much farther from the point's than any snapshot of this library (φ
+    // 0.1 and Z 2 lower; the stop-45 rule took the nearest snapshot then): still the point's own cell.
+    surrogate::PointState far = target;
+    far.solid_fraction -= 0.1;
+    far.coordination -= 2;
+    EXPECT_TRUE(warm->start(target, model, OwnCell{far, first.cell}).own) << "record " << k;
     surrogate::PointState broken = target;
     broken.damage = target.damage + 0.2;
     EXPECT_FALSE(warm->start(target, model, OwnCell{broken, first.cell}).own) << "record " << k;
