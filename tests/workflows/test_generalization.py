@@ -1,8 +1,10 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
 column as the one held-out scene, its five runs, summary.json with the per-scene fields, the table and
-the figure, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
+the figure, both libraries sampled and the second library's run measured against the live run of its
+own template, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
 import math
+import sqlite3
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -24,13 +26,28 @@ class GeneralizationTest(WorkflowTest):
                          ("surrogate", 40, 150))
         for library in ("lib_bond_1", "lib_bond_1_seed"):
             self.assert_template_spheres(self.out / library, 64)
+            # Both hold the sampled paths: the other seed's library answers surrogate_budget_seed.
+            catalogue = sqlite3.connect(self.out / library / "catalogue.sqlite")
+            try:
+                self.assertEqual(catalogue.execute("SELECT COUNT(*) FROM paths").fetchone()[0], 2, library)
+            finally:
+                catalogue.close()
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
-        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor"):
+        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor",
+                    "runout_rel_error_seed_library"):
             self.assertIn(key, scene)
         # The headline is the state key with its error budget, the demo's setting.
         self.assertEqual(scene["cpu_ratio_to_live"], scene["runs"]["surrogate_budget"]["cpu_ratio_to_live"])
-        self.assertEqual(sorted(scene["runs"]), ["hybrid", "live", "live_seed", "surrogate", "surrogate_budget"])
+        self.assertEqual(sorted(scene["runs"]),
+                         ["hybrid", "live", "live_seed", "surrogate", "surrogate_budget", "surrogate_budget_seed"])
+        # The second library's run is measured against the live run of its own template.
+        seeded = scene["runs"]["surrogate_budget_seed"]
+        self.assertEqual(seeded["reference"], "live_seed")
+        self.assertEqual(scene["runs"]["surrogate_budget"]["reference"], "live")
+        self.assertAlmostEqual(seeded["cpu_ratio_to_live"], seeded["cpu_s"] / scene["runs"]["live_seed"]["cpu_s"])
+        seeded_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate_budget_seed.json").read_text())
+        self.assertTrue(seeded_material["materials"][0]["library"].endswith("lib_bond_1_seed"))
         for name, r in scene["runs"].items():
             self.assertEqual(r["failed"], "", name)
             self.assertTrue(math.isfinite(r["cpu_s"]) and r["cpu_s"] > 0, name)

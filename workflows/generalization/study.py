@@ -18,13 +18,17 @@ Runs per scene: `live` (the reference), `live_seed` (live on a template prepared
 seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
 `surrogate` (the state key, its material keys from surrogate.json beside this script; `--tolerance`
 replaces its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
-default 300 Pa: each point goes live when its estimated errors summed since its last live spell
-would pass it).
+default 300 Pa: a point whose estimated errors summed since its last live spell or re-anchoring
+would pass it is re-anchored), and `surrogate_budget_seed`: surrogate_budget on the other packing's
+library (its template and the same sampled paths), measured against `live_seed`, the live run of its
+own template: a second draw of the surrogate's error, from another library.
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
 Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live, live_fraction,
-runout_rel_error, and noise_floor = live_seed's runout_rel_error; every run's figures under "runs"),
+runout_rel_error, and noise_floor = live_seed's runout_rel_error; runout_rel_error_seed_library =
+surrogate_budget_seed's against live_seed; every run's figures under "runs", each against its
+reference, "reference" naming it),
 OUT/table.md and OUT/generalization.png. Runs already finished in OUT/runs/ are kept.
 --smoke: one scene of the tiny test column (tests/workflows), to 0.01 s, for CI.
 """
@@ -44,7 +48,9 @@ ROOT = WORKFLOWS.parent
 CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
 HYBRID = {"lookup": {"k": 4, "tolerance": 10.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}},
           "fallback": {"start": "warm_start", "return_after": 5}, "enrich": False}
-RUNS = ("live", "live_seed", "hybrid", "surrogate", "surrogate_budget")
+RUNS = ("live", "live_seed", "hybrid", "surrogate", "surrogate_budget", "surrogate_budget_seed")
+# The live run each run is measured against: the one on its own template.
+REFERENCE = {"surrogate_budget_seed": "live_seed"}
 SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
 
 
@@ -62,13 +68,14 @@ def cell_file(args, bond, seed_offset):
 
 
 def libraries(args, build, bond):
-    """The generic library of the bond strength (template and sampled paths) and the other seed's
-    (template only: the live law needs no paths)."""
+    """The generic library of the bond strength and the other seed's: each a template and the sampled
+    paths (the live law uses only the template; surrogate_budget_seed, the paths too)."""
     dem_sampler = build / "dem_sampler" / "dem_sampler"
     generic, seeded = args.out / f"lib_bond_{bond:g}", args.out / f"lib_bond_{bond:g}_seed"
     _, cpu = timed([dem_sampler, "prepare", cell_file(args, bond, 0), "--library", generic])
     _, sample_cpu = timed([dem_sampler, "sample", args.paths, "--library", generic, "--threads", args.threads])
     timed([dem_sampler, "prepare", cell_file(args, bond, SEED_OFFSET), "--library", seeded])
+    timed([dem_sampler, "sample", args.paths, "--library", seeded, "--threads", args.threads])
     return {"generic": generic, "seed": seeded, "cpu_s": cpu + sample_cpu}
 
 
@@ -101,7 +108,8 @@ def surrogate_material(args):
 def run_scene(name, settings, libs, surrogate, build, args):
     specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
-             "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget})}
+             "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget}),
+             "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
@@ -128,16 +136,16 @@ def live_fraction(folder, law):
 
 def measure(name, costs, args):
     runs = {}
-    reference = args.out / "runs" / name / "live"
     for run in RUNS:
-        folder = args.out / "runs" / name / run
-        runs[run] = {"cpu_s": costs[run]["cpu_s"], "cpu_ratio_to_live": costs[run]["cpu_s"] / costs["live"]["cpu_s"],
+        folder, reference = (args.out / "runs" / name / r for r in (run, REFERENCE.get(run, "live")))
+        runs[run] = {"reference": reference.name, "cpu_s": costs[run]["cpu_s"],
+                     "cpu_ratio_to_live": costs[run]["cpu_s"] / costs[reference.name]["cpu_s"],
                      "live_fraction": live_fraction(folder, "live" if run.startswith("live") else run),
                      **run_compare.errors(folder, reference), "failed": costs[run]["failed"]}
     s = runs["surrogate_budget"]  # the demo's setting, the one that lets no column stand that falls live
     return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
             "runout_rel_error": s["runout_rel_err"], "noise_floor": runs["live_seed"]["runout_rel_err"],
-            "runs": runs}
+            "runout_rel_error_seed_library": runs["surrogate_budget_seed"]["runout_rel_err"], "runs": runs}
 
 
 def plot(summary, out):
