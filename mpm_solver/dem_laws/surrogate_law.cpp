@@ -151,7 +151,12 @@ void SurrogateLaw::go_live(Point& p) {
 }
 
 void SurrogateLaw::reanchor(Point& p) {
+  const double damage = p.state.damage;
   start_cell(p);
+  // Bonds do not heal: a kept cell has the broken bonds it had when the point handed it back, and
+  // taking its D would drop the damage the point has integrated since (stop 46: the a = 1 column
+  // kept its mean D at 0.02 against live's 0.24, and stood).
+  p.state.damage = std::max(p.state.damage, damage);
   park(p);
   ++p.counters.reanchored;
 }

@@ -10,8 +10,9 @@
 // - A step that would spend past the error budget (the estimated errors the point has summed since
 //   its last live spell or re-anchoring) is not taken as it is. With warm_start "state" the point is
 //   re-anchored: a cell is started as for a live spell (below: the point's own former cell, or the
-//   nearest stored cell, servoed to its stress), the point takes that cell's state (its stress as far as the
-//   packing can carry it, its φ, Z and D) and keeps the cell for its next start, and the step is
+//   nearest stored cell, servoed to its stress), the point takes that cell's state (its stress as far
+//   as the packing can carry it, its φ and Z, and its D unless the point's own is higher: bonds do
+//   not heal) and keeps the cell for its next start, and the step is
 //   asked again from that state. No live step is run: the drift the budget guards against is a
 //   state no cell carries (stop 40: a column that stood because its points drifted to a strength
 //   no cell has), and the servo finds it. With warm_start "replay" the point goes live instead, and

@@ -15,6 +15,8 @@
 #include <cstdio>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "tests/database/surrogate_test_util.hpp"
@@ -312,6 +314,57 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
       EXPECT_GT(c.warm_start_servo_steps, 0u);
     }
   }
+}
+
+// A law's saved state in memory (law_state_archive.hpp), to be edited between save and restore.
+class MemoryArchive : public LawStateWriter, public LawStateReader {
+ public:
+  void write_table(const std::string& name, const std::vector<double>& rows, std::size_t) override {
+    tables[name] = rows;
+  }
+  void write_cell(const std::string& name, const dem::DemCell& cell) override {
+    cells.insert_or_assign(name, cell.state());
+  }
+  std::vector<double> read_table(const std::string& name, std::size_t) override { return tables.at(name); }
+  bool has_table(const std::string& name) override { return tables.count(name) > 0; }
+  dem::CellState read_cell(const std::string& name) override { return cells.at(name); }
+  std::map<std::string, std::vector<double>> tables;
+  std::map<std::string, dem::CellState> cells;
+};
+
+// Bonds do not heal. A point's kept cell has the broken bonds it had when the point handed it back;
+// a point that has since integrated more damage keeps its own D when it is re-anchored on that cell.
+// The test library's paths break at most two bonds, so the point's later damage is written into its
+// saved state (column 12 of "surrogate_points": slot, σ, φ, Z, then D).
+TEST(SurrogateLaw, AReanchoredPointKeepsItsDamage) {
+  std::vector<Mat2> motion(20, off_library_motion().front());
+  motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
+  SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
+  auto law = surrogate_law(s);
+  Driver d = new_point(*law);
+  std::size_t k = 0;
+  for (bool was_live = false; k < motion.size(); ++k) {
+    d(*law, motion[k], kDt);
+    if (law->source(d.slot) == StressSource::live) was_live = true;
+    else if (was_live) break;  // back on the surrogate, with a kept cell
+  }
+  ASSERT_LT(k + 1, motion.size()) << "the point never handed its cell back";
+  MemoryArchive archive;
+  law->save_state(archive);
+  ASSERT_EQ(archive.cells.count("parked_0"), 1u);
+  const double kept = archive.tables.at("surrogate_parked").at(12);
+  archive.tables.at("surrogate_points").at(12) = kept + 0.2;
+  // Every step a hit, and any error spends the budget: the next step re-anchors.
+  s.tolerance = kNoLimit;
+  s.error_budget = 1e-9;
+  auto resumed = surrogate_law(s);
+  Driver e = new_point(*resumed);
+  resumed->restore_state(archive);
+  ASSERT_DOUBLE_EQ(resumed->damage(e.slot), kept + 0.2);
+  const std::uint64_t before = resumed->point_counters(e.slot).reanchored;
+  e(*resumed, motion[k + 1], kDt);
+  ASSERT_EQ(resumed->point_counters(e.slot).reanchored, before + 1);
+  EXPECT_GE(resumed->damage(e.slot), kept + 0.2);
 }
 
 // The state warm start chooses among the library's snapshots and the template: a stored state finds
