@@ -21,14 +21,14 @@
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.
 // - Going live with warm_start "state" (the default): the point's cell is its own former cell
-//   (below), or, for a point without one, the stored cell nearest in state (the library's snapshots of the template's paths, and the template
-//   itself) brought to the point's stress by the stress servo (state_warm_start.hpp), so its cost
-//   does not grow with the run. The point then carries the cell's state: its own σ (within
-//   stress_tolerance), the snapshot's φ, Z and D; a servo that does not converge leaves the stress
-//   the packing could reach (or, with unconverged "replay", the point replays). With warm_start
-//   "replay", and on the point's first step, the cell is rebuilt by replaying the point's own
-//   increments (exact: the cell a live-law point would own). A live cell answers
-//   as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
+//   (below), or, for a point without one, the stored cell nearest in state (the library's snapshots
+//   of the template's paths, and the template itself), brought to the point's stress by the stress
+//   servo (state_warm_start.hpp), so its cost does not grow with the run. The point then carries the
+//   cell's state: its own σ (within stress_tolerance), the cell's φ, Z and D; a servo that does not
+//   converge leaves the stress the packing could reach (or, with unconverged "replay", the point
+//   replays). With warm_start "replay", and on the point's first step, the cell is rebuilt by
+//   replaying the point's own increments (exact: the cell a live-law point would own). A live cell
+//   answers as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.
 // - Every live step's response enters the index as a new sample at the end of its step (end_step,
 //   issue 13, item 4), so the next step's queries near it may hit: the cell's state `sample_span`

@@ -1,5 +1,5 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
-column as the one held-out scene, its five runs, summary.json with the per-scene fields, the table and
+column as the one held-out scene, its six runs, summary.json with the per-scene fields, the table and
 the figure, both libraries sampled and the second library's run measured against the live run of its
 own template, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
