@@ -13,9 +13,9 @@ The loadings start at the template's state, at |D| = rate [1/s], to a strain of 
   extension    stretching along y, x held
   simple_shear L = [[0, √2 rate], [0, 0]]
   pure_shear   D = diag(1, −1) rate/√2
---material is merged into the law's material block (default: the demo's live-cell settings and, for
-the surrogate, its tolerance 50 Pa, error budget 300 Pa, samples over 4 steps, return after 5 steps
-and servo tolerance 100 Pa). Writes OUT/element_tests.md and OUT/element_tests.json: per
+--material is merged into the law's material block (default: read from workflows/demo/column.json,
+the demo's live-cell settings and, for the surrogate, its tolerance, error budget, sample span and
+fallback). Writes OUT/element_tests.md and OUT/element_tests.json: per
 loading, the median and p95 of the run's relative stress error, the same for the floor, their ratio,
 the share of live point-steps, and the final in-plane stress of the run, the reference and the floor
 cell. The runs stay in OUT/runs/NAME (each with its audit/).
@@ -31,14 +31,17 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from plotting import environment, tables  # noqa: E402  (after the path set-up)
 
-# The demo's live-cell settings, and for the surrogate its tolerance, budget, sample span and fallback.
-LIVE_SETTINGS = {"substepping": {"q_t": 0.1, "q_n": 1, "q_sigma": 0.2}, "q_h": 0.01}
-SURROGATE_SETTINGS = {"tolerance": 50, "error_budget": 300, "sample_span": 4,
-                      "fallback": {"return_after": 5, "stress_tolerance": 100}}
+DEMO_SCENE = Path(__file__).resolve().parents[1] / "demo" / "column.json"
+# The demo material's keys the element tests take: its live cells' settings, and for the surrogate its
+# tolerance, budget, sample span and fallback.
+LIVE_KEYS = ("substepping", "q_h")
+SURROGATE_KEYS = ("tolerance", "error_budget", "sample_span", "fallback")
 
 
 def material_settings(args):
-    return {**LIVE_SETTINGS, **(SURROGATE_SETTINGS if args.law == "surrogate" else {}), **args.material}
+    demo = json.loads(DEMO_SCENE.read_text())["materials"][0]
+    keys = LIVE_KEYS + (SURROGATE_KEYS if args.law == "surrogate" else ())
+    return {**{key: demo[key] for key in keys}, **args.material}
 
 
 def velocity_gradient(loading, rate):
