@@ -1,5 +1,5 @@
 """The accuracy-versus-time study (workflows/accuracy_vs_time/study.py) in its smoke version: the
-tiny column, live reference, three variants (one the surrogate) and a hybrid run on a library the study enriched with the
+tiny column, live reference, its noise and chaos floors, three variants (one the surrogate) and a hybrid run on a library the study enriched with the
 scene's own states; table, Pareto plot and study JSON; resumed with a run left out. The creeping set
 (the former cache_vs_live) on the tiny column: its own cell, no generic paths, its scenes written by
 `mpm_solver scene`."""
@@ -26,8 +26,8 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1"])
         with (self.out / "results.csv").open() as f:
             rows = {r["run"]: r for r in csv.DictReader(f)}
-        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "q_sigma_0.5",
-                                        "surrogate"])
+        self.assertEqual(sorted(rows), ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "perturbed",
+                                        "q_sigma_0.5", "surrogate"])
         self.assertEqual(list(rows["live"]), COLUMNS)
         # The reference against itself has no error; the variants are different runs of the same scene.
         self.assertIn(rows["live"]["runout_rel_err"], ("", "0.0"))  # empty: the tiny column ran out < 1 cm
@@ -49,6 +49,14 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertEqual(other_cell, demo_cell)
         noise = rows["other_seed"]
         self.assertGreater(float(noise["stress_rel_l2"]), 0.0)
+        # The chaos floor: the reference with gravity changed in its 12th digit is another trajectory
+        # of the same packing, nearer the reference than another packing's.
+        gravity = [json.loads((self.out / "scenes" / f"{name}.json").read_text())["gravity"]["g"]
+                   for name in ("live", "perturbed")]
+        self.assertEqual(gravity[1], [g * (1 + 1e-12) for g in gravity[0]])
+        self.assertNotEqual(gravity[1], gravity[0])
+        self.assertGreater(float(rows["perturbed"]["stress_rel_l2"]), 0.0)
+        self.assertLess(float(rows["perturbed"]["stress_rel_l2"]), float(noise["stress_rel_l2"]))
         # Every error is stated over the noise floor's: the noise floor is 1 against itself, live 0.
         for key in AGAINST_NOISE:
             if noise[key] and float(noise[key]) > 0:
@@ -72,7 +80,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertTrue(markdown[0].startswith("| run | knob |"))
         self.assert_png(self.out / "pareto.png")
         study = self.assert_json_fields(self.out / "study.json", ["variants", "library_cost", "runs"])
-        self.assertEqual(len(study["runs"]), 7)
+        self.assertEqual(len(study["runs"]), 8)
         for run_name in rows:
             self.assert_run(self.out / "runs" / run_name, end_time=0.003, points=4)
 
@@ -82,7 +90,7 @@ class AccuracyVsTimeTest(WorkflowTest):
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1", "--skip", "q_sigma_0.5"])
         with (self.out / "results.csv").open() as f:
             self.assertEqual(sorted(r["run"] for r in csv.DictReader(f)),
-                             ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "surrogate"])
+                             ["enriching", "hybrid", "hybrid_enriched", "live", "other_seed", "perturbed", "surrogate"])
         self.assertEqual((self.out / "runs" / "hybrid" / "summary.json").read_text(), before)
 
     def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
@@ -117,7 +125,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         # leaves): compared at the times both reached, it has no error at all.
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
              "--paths", TINY_PATHS, "--variants", "smoke", "--threads", "1",
-             "--skip", "other_seed,q_sigma_0.5,hybrid,surrogate,enriching,hybrid_enriched"])
+             "--skip", "other_seed,perturbed,q_sigma_0.5,hybrid,surrogate,enriching,hybrid_enriched"])
         reference, stopped = self.out / "runs" / "live", self.out / "stopped"
         shutil.copytree(reference, stopped)
         stop = 0.0015

@@ -1,5 +1,5 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
-column as the one held-out scene, its six runs, summary.json with the per-scene fields, the table and
+column as the one held-out scene, its seven runs, summary.json with the per-scene fields, the table and
 the figure, both libraries sampled and the second library's run measured against the live run of its
 own template, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
@@ -34,13 +34,14 @@ class GeneralizationTest(WorkflowTest):
                 catalogue.close()
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
-        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor",
+        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor", "chaos_floor",
                     "runout_rel_error_seed_library"):
             self.assertIn(key, scene)
         # The headline is the state key with its error budget, the demo's setting.
         self.assertEqual(scene["cpu_ratio_to_live"], scene["runs"]["surrogate_budget"]["cpu_ratio_to_live"])
         self.assertEqual(sorted(scene["runs"]),
-                         ["hybrid", "live", "live_seed", "surrogate", "surrogate_budget", "surrogate_budget_seed"])
+                         ["hybrid", "live", "live_perturbed", "live_seed", "surrogate", "surrogate_budget",
+                          "surrogate_budget_seed"])
         # The second library's run is measured against the live run of its own template.
         seeded = scene["runs"]["surrogate_budget_seed"]
         self.assertEqual(seeded["reference"], "live_seed")
@@ -57,6 +58,16 @@ class GeneralizationTest(WorkflowTest):
         self.assertLess(scene["runs"]["surrogate"]["live_fraction"], 1.0)
         # Another packing seed is another run: its stress field differs from the reference's.
         self.assertGreater(scene["runs"]["live_seed"]["stress_rel_l2"], 0.0)
+        # The chaos floor: the reference with gravity changed in its 12th digit, on the reference's own
+        # template, is another trajectory, nearer the reference than another packing's.
+        gravity = [json.loads((self.out / "scenes" / f"aspect_1_bond_1_{name}.json").read_text())["gravity"]["g"]
+                   for name in ("live", "live_perturbed")]
+        self.assertNotEqual(gravity[1], gravity[0])
+        self.assertEqual(gravity[1], [g * (1 + 1e-12) for g in gravity[0]])
+        perturbed = scene["runs"]["live_perturbed"]
+        self.assertEqual(perturbed["reference"], "live")
+        self.assertGreater(perturbed["stress_rel_l2"], 0.0)
+        self.assertLess(perturbed["stress_rel_l2"], scene["runs"]["live_seed"]["stress_rel_l2"])
         self.assertIn("| aspect_1_bond_1 | surrogate |", (self.out / "table.md").read_text())
         self.assert_png(self.out / "generalization.png")
 

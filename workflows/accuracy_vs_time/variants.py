@@ -2,9 +2,11 @@
 against the `live` reference. Each variant is (knob, value, law, material keys, scene settings
 {JSON pointer: value}) for plotting.scenes.variant; `preparation` is merged into the cell's
 preparation (another number of spheres, another packing seed; the cell is prepared live), `grid_factor`
-scales the grid cell size (same domain, same points per cell). NOISE_FLOOR is the live run on a cell
-packed with another seed: what two equally good live runs differ by, against which every error is
-stated.
+scales the grid cell size (same domain, same points per cell), `gravity_factor` the scene's gravity.
+NOISE_FLOOR is the live run on a cell packed with another seed: what two equally good live runs differ
+by, against which every error is stated. CHAOS is the reference itself with gravity changed in its
+12th digit: how far the reference's own trajectory moves under a change in the last bits, i.e. which
+part of each error no run, however exact its law, could avoid.
 A set may come with its own scene and cell (INPUTS); the others run on the demo's column."""
 from pathlib import Path
 
@@ -30,6 +32,7 @@ def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
 
 
 NOISE_FLOOR = "other_seed"
+CHAOS = "perturbed"
 OTHER_SEED = 1001  # the shipped cells are packed with seed 1
 
 # name: {"knob", "value", "law", "material", "preparation", "grid_factor", "library": "enriched"}
@@ -37,6 +40,8 @@ FULL = {
     "live": {"knob": "reference", "value": "live", "law": "live"},
     NOISE_FLOOR: {"knob": "packing seed (noise floor)", "value": OTHER_SEED, "law": "live",
                   "preparation": {"seed": OTHER_SEED}},
+    CHAOS: {"knob": "gravity × (1 + 1e-12) (the reference's chaos)", "value": "1+1e-12", "law": "live",
+            "gravity_factor": 1 + 1e-12},
     "q_t_0.2": {"knob": "Q_t", "value": 0.2, "law": "live", "material": {"substepping": {"q_t": 0.2}}},
     "q_t_0.05": {"knob": "Q_t", "value": 0.05, "law": "live", "material": {"substepping": {"q_t": 0.05}}},
     "q_n_200": {"knob": "Q_n", "value": 200, "law": "live", "material": {"substepping": {"q_n": 200}}},
@@ -78,10 +83,10 @@ FULL = {
     "grid_x2": {"knob": "grid cell size", "value": "x2", "law": "live", "grid_factor": 2},
     "grid_x0.5": {"knob": "grid cell size", "value": "x0.5", "law": "live", "grid_factor": 0.5},
 }
-# The CI smoke test: the reference, the noise floor, three variants and a run on the scene's own library.
-SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, "q_sigma_0.5", "hybrid", "surrogate", "enriching",
+# The CI smoke test: the reference, its two floors, three variants and a run on the scene's own library.
+SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, CHAOS, "q_sigma_0.5", "hybrid", "surrogate", "enriching",
                                        "hybrid_enriched")}
-REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "surrogate", "surrogate_tol_25", "surrogate_tol_100",
+REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, CHAOS, "surrogate", "surrogate_tol_25", "surrogate_tol_100",
                                          "surrogate_budget_300", "surrogate_tol_100_budget_300", "q_t_0.2", "hybrid",
                                          "hybrid_tol_10", "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "hybrid", "enriching", "hybrid_enriched",

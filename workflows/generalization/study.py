@@ -15,7 +15,9 @@ instead of the 125 of CELL (the demo's cell until stop 38; 250, the demo's now, 
 representative cell, workflows/convergence). The gate
 opens at `--gate` and the scene ends at `--end`.
 Runs per scene: `live` (the reference), `live_seed` (live on a template prepared with another packing
-seed: the noise floor), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
+seed: the noise floor), `live_perturbed` (the reference with gravity changed in its 12th digit: how far
+its own trajectory moves under a change in the last bits, the part of every error that no law, however
+exact, could avoid), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
 `surrogate` (the state key, its material keys from surrogate.json beside this script; `--tolerance`
 replaces its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
 default 300 Pa: a point whose estimated errors summed since its last live spell or re-anchoring
@@ -26,7 +28,8 @@ Per run: CPU seconds (of the child process, not wall) and their ratio to live, t
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
 Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live, live_fraction,
-runout_rel_error, and noise_floor = live_seed's runout_rel_error; runout_rel_error_seed_library =
+runout_rel_error, and noise_floor = live_seed's runout_rel_error, chaos_floor = live_perturbed's;
+runout_rel_error_seed_library =
 surrogate_budget_seed's against live_seed; every run's figures under "runs", each against its
 reference, "reference" naming it),
 OUT/table.md and OUT/generalization.png. Runs already finished in OUT/runs/ are kept.
@@ -48,10 +51,11 @@ ROOT = WORKFLOWS.parent
 CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
 HYBRID = {"lookup": {"k": 4, "tolerance": 10.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}},
           "fallback": {"start": "warm_start", "return_after": 5}, "enrich": False}
-RUNS = ("live", "live_seed", "hybrid", "surrogate", "surrogate_budget", "surrogate_budget_seed")
+RUNS = ("live", "live_seed", "live_perturbed", "hybrid", "surrogate", "surrogate_budget", "surrogate_budget_seed")
 # The live run each run is measured against: the one on its own template.
 REFERENCE = {"surrogate_budget_seed": "live_seed"}
 SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
+GRAVITY_PERTURBATION = 1 + 1e-12  # live_perturbed's gravity over the scene's
 
 
 def cell_file(args, bond, seed_offset):
@@ -107,6 +111,7 @@ def surrogate_material(args):
 
 def run_scene(name, settings, libs, surrogate, build, args):
     specs = {"live": ("live", libs["generic"], None), "live_seed": ("live", libs["seed"], None),
+             "live_perturbed": ("live", libs["generic"], None),
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
              "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget}),
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
@@ -120,7 +125,8 @@ def run_scene(name, settings, libs, surrogate, build, args):
     for run in RUNS:
         law, library, material = specs[run]
         scene_file = folder / f"{name}_{run}.json"
-        scenes.variant(build, bare, scene_file, law, library, material)
+        perturbed = {"/gravity/g": [g * GRAVITY_PERTURBATION for g in json.loads(bare.read_text())["gravity"]["g"]]}
+        scenes.variant(build, bare, scene_file, law, library, material, perturbed if run == "live_perturbed" else None)
         costs[run] = run_compare.timed_scene_run(build, scene_file, args.out / "runs" / name / run, args.threads)
         print(f"{name} {run}: {costs[run]['cpu_s']:.1f} s CPU{' (' + costs[run]['failed'] + ')' if costs[run]['failed'] else ''}",
               flush=True)
@@ -145,6 +151,7 @@ def measure(name, costs, args):
     s = runs["surrogate_budget"]  # the demo's setting, the one that lets no column stand that falls live
     return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
             "runout_rel_error": s["runout_rel_err"], "noise_floor": runs["live_seed"]["runout_rel_err"],
+            "chaos_floor": runs["live_perturbed"]["runout_rel_err"],
             "runout_rel_error_seed_library": runs["surrogate_budget_seed"]["runout_rel_err"], "runs": runs}
 
 
