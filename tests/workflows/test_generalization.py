@@ -1,5 +1,5 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
-column as the one held-out scene, its seven runs, summary.json with the per-scene fields, the table and
+column as the one held-out scene, its eight runs (two draws of the surrogate with its budget), summary.json with the per-scene fields, the table and
 the figure, both libraries sampled and the second library's run measured against the live run of its
 own template, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
 import json
@@ -14,7 +14,7 @@ from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflo
 class GeneralizationTest(WorkflowTest):
     def test_smoke_benchmark(self):
         run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1",
-             "--spheres", "64", "--tolerance", "40", "--error-budget", "150"])
+             "--spheres", "64", "--tolerance", "40", "--error-budget", "150", "--draws", "2"])
         summary = self.assert_json_fields(self.out / "summary.json", ["paths", "spheres", "end_s", "libraries_cpu_s", "scenes"])
         self.assertEqual(summary["spheres"], 64)
         self.assertEqual(summary["surrogate"]["tolerance"], 40)
@@ -34,14 +34,16 @@ class GeneralizationTest(WorkflowTest):
                 catalogue.close()
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
-        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "noise_floor", "chaos_floor",
-                    "runout_rel_error_seed_library"):
+        for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "runout_rel_change_draws", "noise_floor",
+                    "chaos_floor", "runout_rel_error_seed_library"):
             self.assertIn(key, scene)
+        self.assertEqual(summary["draws"], 2)
+        self.assertEqual(len(scene["runout_rel_change_draws"]), 2)
         # The headline is the state key with its error budget, the demo's setting.
         self.assertEqual(scene["cpu_ratio_to_live"], scene["runs"]["surrogate_budget"]["cpu_ratio_to_live"])
         self.assertEqual(sorted(scene["runs"]),
                          ["hybrid", "live", "live_perturbed", "live_seed", "surrogate", "surrogate_budget",
-                          "surrogate_budget_seed"])
+                          "surrogate_budget_draw_1", "surrogate_budget_seed"])
         # The second library's run is measured against the live run of its own template.
         seeded = scene["runs"]["surrogate_budget_seed"]
         self.assertEqual(seeded["reference"], "live_seed")
@@ -64,6 +66,11 @@ class GeneralizationTest(WorkflowTest):
                    for name in ("live", "live_perturbed")]
         self.assertNotEqual(gravity[1], gravity[0])
         self.assertEqual(gravity[1], [g * (1 + 1e-12) for g in gravity[0]])
+        # The surrogate's second draw: its run on the same perturbed gravity, against the live reference.
+        draw = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate_budget_draw_1.json").read_text())
+        self.assertEqual(draw["gravity"]["g"], gravity[1])
+        self.assertEqual(draw["materials"][0], budget_material)
+        self.assertEqual(scene["runs"]["surrogate_budget_draw_1"]["reference"], "live")
         perturbed = scene["runs"]["live_perturbed"]
         self.assertEqual(perturbed["reference"], "live")
         self.assertGreater(perturbed["stress_rel_l2"], 0.0)

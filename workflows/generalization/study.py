@@ -2,7 +2,7 @@
 """Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
 
   study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--tolerance PA]
-           [--error-budget PA] [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
+           [--error-budget PA] [--draws N] [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
 
 The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
 default workflows/demo/paths.json; workflows/precompute/states.json adds state probes): no run of any
@@ -23,12 +23,18 @@ replaces its tolerance) and `surrogate_budget` (the same with an `error_budget` 
 default 300 Pa: a point whose estimated errors summed since its last live spell or re-anchoring
 would pass it is re-anchored), and `surrogate_budget_seed`: surrogate_budget on the other packing's
 library (its template and the same sampled paths), measured against `live_seed`, the live run of its
-own template: a second draw of the surrogate's error, from another library.
+own template: a second draw of the surrogate's error, from another library. And `--draws` − 1 more
+draws of surrogate_budget (`surrogate_budget_draw_K`, default 2): the same run with gravity changed in
+its 12th digit (× 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, …). A run of the surrogate is one trajectory of a
+chaotic flow, and a change in the last bits moves its runout by a few per cent where it moves the live
+reference's by less than one (stop 47): one draw does not tell the surrogate's bias from its scatter.
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
-Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live, live_fraction,
-runout_rel_error, and noise_floor = live_seed's runout_rel_error, chaos_floor = live_perturbed's;
+Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live and live_fraction, its
+runout_rel_error as |the mean over its draws of (runout − live's) / live's| (each draw's signed change
+in runout_rel_change_draws), and
+noise_floor = live_seed's runout_rel_error, chaos_floor = live_perturbed's;
 runout_rel_error_seed_library =
 surrogate_budget_seed's against live_seed; every run's figures under "runs", each against its
 reference, "reference" naming it),
@@ -55,7 +61,22 @@ RUNS = ("live", "live_seed", "live_perturbed", "hybrid", "surrogate", "surrogate
 # The live run each run is measured against: the one on its own template.
 REFERENCE = {"surrogate_budget_seed": "live_seed"}
 SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
-GRAVITY_PERTURBATION = 1 + 1e-12  # live_perturbed's gravity over the scene's
+PERTURBATION = 1e-12  # of gravity, relative: a change in its 12th digit
+
+
+def draw_runs(draws):
+    """The runs that draw surrogate_budget again, on gravity × their factor (GRAVITY_FACTOR)."""
+    return [f"surrogate_budget_draw_{k}" for k in range(1, draws)]
+
+
+def gravity_factor(run):
+    """live_perturbed's and the draws' gravity over the scene's: 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, … ."""
+    if run == "live_perturbed":
+        return 1 + PERTURBATION
+    if run.startswith("surrogate_budget_draw_"):
+        k = int(run.rsplit("_", 1)[1])
+        return 1 + (1 if k % 2 else -1) * ((k + 1) // 2) * PERTURBATION
+    return None
 
 
 def cell_file(args, bond, seed_offset):
@@ -115,6 +136,7 @@ def run_scene(name, settings, libs, surrogate, build, args):
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
              "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget}),
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
+    specs.update({run: specs["surrogate_budget"] for run in draw_runs(args.draws)})
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
@@ -122,11 +144,13 @@ def run_scene(name, settings, libs, surrogate, build, args):
     bare = folder / f"{name}.json"
     scenes.variant(build, args.scene, bare, "live", None, {"fallback": None}, settings)
     costs = {}
-    for run in RUNS:
+    gravity = json.loads(bare.read_text())["gravity"]["g"]
+    for run in specs:
         law, library, material = specs[run]
         scene_file = folder / f"{name}_{run}.json"
-        perturbed = {"/gravity/g": [g * GRAVITY_PERTURBATION for g in json.loads(bare.read_text())["gravity"]["g"]]}
-        scenes.variant(build, bare, scene_file, law, library, material, perturbed if run == "live_perturbed" else None)
+        factor = gravity_factor(run)
+        scenes.variant(build, bare, scene_file, law, library, material,
+                       {"/gravity/g": [g * factor for g in gravity]} if factor else None)
         costs[run] = run_compare.timed_scene_run(build, scene_file, args.out / "runs" / name / run, args.threads)
         print(f"{name} {run}: {costs[run]['cpu_s']:.1f} s CPU{' (' + costs[run]['failed'] + ')' if costs[run]['failed'] else ''}",
               flush=True)
@@ -142,15 +166,21 @@ def live_fraction(folder, law):
 
 def measure(name, costs, args):
     runs = {}
-    for run in RUNS:
+    for run in costs:
         folder, reference = (args.out / "runs" / name / r for r in (run, REFERENCE.get(run, "live")))
         runs[run] = {"reference": reference.name, "cpu_s": costs[run]["cpu_s"],
                      "cpu_ratio_to_live": costs[run]["cpu_s"] / costs[reference.name]["cpu_s"],
                      "live_fraction": live_fraction(folder, "live" if run.startswith("live") else run),
                      **run_compare.errors(folder, reference), "failed": costs[run]["failed"]}
     s = runs["surrogate_budget"]  # the demo's setting, the one that lets no column stand that falls live
+    draws = [run_compare.final_runout_change(*(tables.read_csv(args.out / "runs" / name / r / "series.csv")
+                                               for r in (run, "live")))
+             for run in ["surrogate_budget", *draw_runs(args.draws)]]
+    measured = [change for change in draws if change is not None]  # None: the live column ran out < 1 cm
     return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
-            "runout_rel_error": s["runout_rel_err"], "noise_floor": runs["live_seed"]["runout_rel_err"],
+            "runout_rel_error": abs(sum(measured) / len(measured)) if measured else None,
+            "runout_rel_change_draws": draws,
+            "noise_floor": runs["live_seed"]["runout_rel_err"],
             "chaos_floor": runs["live_perturbed"]["runout_rel_err"],
             "runout_rel_error_seed_library": runs["surrogate_budget_seed"]["runout_rel_err"], "runs": runs}
 
@@ -185,12 +215,15 @@ def main():
     parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of surrogate.json's")
     parser.add_argument("--error-budget", type=float, default=300.0,
                         help="the surrogate_budget run's error_budget [Pa]")
+    parser.add_argument("--draws", type=int, default=3, help="runs of surrogate_budget, each on gravity changed in its 12th digit")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--smoke", action="store_true")
     args = parser.parse_args()
+    if args.draws < 1:
+        parser.error(f"--draws: expected a whole number >= 1, got {args.draws}")
     args.scene = WORKFLOWS / "demo" / "column.json"
     aspects, bonds = [float(a) for a in args.aspects.split(",")], [float(b) for b in args.bonds.split(",")]
     if args.smoke:
@@ -200,7 +233,8 @@ def main():
     build = args.build.resolve()
     spheres = args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"]
     surrogate = surrogate_material(args)
-    summary = {"paths": str(args.paths), "surrogate": surrogate, "error_budget": args.error_budget, "spheres": spheres,
+    summary = {"paths": str(args.paths), "surrogate": surrogate, "error_budget": args.error_budget, "draws": args.draws,
+               "spheres": spheres,
                "end_s": args.end, "gate_s": args.gate, "threads": args.threads, "libraries_cpu_s": {}, "scenes": {}}
     for bond in bonds:
         libs = libraries(args, build, bond)
@@ -211,7 +245,7 @@ def main():
             summary["scenes"][name] = measure(name, costs, args)
     (args.out / "summary.json").write_text(json.dumps(summary, indent=2) + "\n")
     rows = [{"scene": name, "run": run, **{k: v for k, v in s["runs"][run].items()}}
-            for name, s in summary["scenes"].items() for run in RUNS]
+            for name, s in summary["scenes"].items() for run in s["runs"]]
     tables.write_markdown(args.out / "table.md", rows)
     plot(summary, args.out / "generalization.png")
     print((args.out / "table.md").read_text(), end="")

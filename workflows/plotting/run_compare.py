@@ -38,15 +38,22 @@ def stress_error(snapshot, reference):
     return flow.stress_error_nearest(snapshot, reference)
 
 
-def final_runout_error(series, reference, min_runout=0.01):
-    """|runout − reference runout| / reference runout at the last row they share; None when the
-    reference runout is below `min_runout` [m] there (a ratio of noise over a tiny number)."""
+def final_runout_change(series, reference, min_runout=0.01):
+    """(runout − reference runout) / reference runout at the last row they share, signed (negative:
+    the run falls short); None when the reference runout is below `min_runout` [m] there (a ratio of
+    noise over a tiny number)."""
     ref = dict(zip(np.round(reference["t"], 9), flow.runout(reference)))
     common = [(t, r) for t, r in zip(np.round(series["t"], 9), flow.runout(series)) if t in ref]
     if not common or ref[common[-1][0]] < min_runout:
         return None
     t, r = common[-1]
-    return float(abs(r - ref[t]) / ref[t])
+    return float((r - ref[t]) / ref[t])
+
+
+def final_runout_error(series, reference, min_runout=0.01):
+    """|final_runout_change|, or None where it is."""
+    change = final_runout_change(series, reference, min_runout)
+    return None if change is None else abs(change)
 
 
 def bulk_errors(final, initial, ref_final, ref_initial, min_advance=0.01):
