@@ -68,6 +68,11 @@ FULL = {
     # An error budget per point: no run of small errors drifts unchecked (surrogate_law.hpp).
     "surrogate_budget_300": {"knob": "surrogate error budget [Pa] (tolerance 50 Pa)", "value": 300.0,
                              "law": "surrogate", "material": surrogate(error_budget_pa=300.0)},
+    # The demo's run drawn twice more on gravity changed in its 12th digit: its own chaos, against CHAOS's.
+    **{f"surrogate_budget_300_draw_{k}": {"knob": "surrogate error budget [Pa] (tolerance 50 Pa), another draw",
+                                          "value": f"gravity × {factor!r}", "law": "surrogate",
+                                          "material": surrogate(error_budget_pa=300.0), "gravity_factor": factor}
+       for k, factor in ((1, 1 + 1e-12), (2, 1 - 1e-12))},
     "surrogate_tol_100_budget_300": {"knob": "surrogate error budget [Pa] (tolerance 100 Pa)", "value": 300.0,
                                      "law": "surrogate", "material": surrogate(tolerance_pa=100.0, error_budget_pa=300.0)},
     # A library of this scene's own states: the second run of a scene (a re-run, a parameter study).
@@ -87,7 +92,8 @@ FULL = {
 SMOKE = {name: FULL[name] for name in ("live", NOISE_FLOOR, CHAOS, "q_sigma_0.5", "hybrid", "surrogate", "enriching",
                                        "hybrid_enriched")}
 REDUCED = {name: FULL[name] for name in ("live", NOISE_FLOOR, CHAOS, "surrogate", "surrogate_tol_25", "surrogate_tol_100",
-                                         "surrogate_budget_300", "surrogate_tol_100_budget_300", "q_t_0.2", "hybrid",
+                                         "surrogate_budget_300", "surrogate_budget_300_draw_1",
+                                         "surrogate_budget_300_draw_2", "surrogate_tol_100_budget_300", "q_t_0.2", "hybrid",
                                          "hybrid_tol_10", "cache")}
 ENRICHED = {name: FULL[name] for name in ("live", NOISE_FLOOR, "hybrid", "enriching", "hybrid_enriched",
                                           "cache_enriched")}
