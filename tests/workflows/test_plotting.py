@@ -59,6 +59,19 @@ class FlowTest(WorkflowTest):
         self.assertAlmostEqual(flow.front_error(series, reference), 0.5)
         self.assertEqual(flow.front_error(reference, reference), 0.0)
 
+    def test_final_runout_change_is_signed_and_its_error_is_its_size(self):
+        reference = {"t": np.array([0, 1, 2.0]), "front": np.array([1.0, 1.02, 1.04])}
+        short = {"t": np.array([0, 1, 2.0]), "front": np.array([1.0, 1.01, 1.03])}
+        long = {"t": np.array([0, 1, 2.0]), "front": np.array([1.0, 1.03, 1.05])}
+        # At t = 2 the reference has run out 4 cm: 1 cm short is −25 %, 1 cm long +25 %.
+        self.assertAlmostEqual(run_compare.final_runout_change(short, reference), -0.25)
+        self.assertAlmostEqual(run_compare.final_runout_change(long, reference), 0.25)
+        self.assertAlmostEqual(run_compare.final_runout_error(short, reference), 0.25)
+        # A reference that ran out less than 1 cm has no relative change.
+        creeping = {"t": np.array([0, 1, 2.0]), "front": np.array([1.0, 1.002, 1.005])}
+        self.assertIsNone(run_compare.final_runout_change(short, creeping))
+        self.assertIsNone(run_compare.final_runout_error(short, creeping))
+
     def test_stress_errors(self):
         xy = [[0, 0], [1, 0], [0, 1]]
         stress = [[-1, -2, 0.5], [-3, -1, 0], [0, -4, 1]]
