@@ -26,8 +26,8 @@ library (its template and the same sampled paths), measured against `live_seed`,
 own template: a second draw of the surrogate's error, from another library. And `--draws` − 1 more
 draws of surrogate_budget (`surrogate_budget_draw_K`, default 2): the same run with gravity changed in
 its 12th digit (× 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, …). A run of the surrogate is one trajectory of a
-chaotic flow, and a change in the last bits moves its runout by a few per cent where it moves the live
-reference's by less than one (stop 47): one draw does not tell the surrogate's bias from its scatter.
+chaotic flow, and such a change moved the flowing columns' surrogate runout by up to 4 % (stop 47): one
+draw does not tell the surrogate's bias from its scatter.
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
@@ -65,7 +65,7 @@ PERTURBATION = 1e-12  # of gravity, relative: a change in its 12th digit
 
 
 def draw_runs(draws):
-    """The runs that draw surrogate_budget again, on gravity × their factor (GRAVITY_FACTOR)."""
+    """The runs that draw surrogate_budget again, each on gravity × its gravity_factor."""
     return [f"surrogate_budget_draw_{k}" for k in range(1, draws)]
 
 
