@@ -190,7 +190,9 @@ def plot(summary, out):
     names = list(summary["scenes"])
     panels = [("cpu_ratio_to_live", "CPU relative to live", True), ("runout_rel_err", "final runout error vs live", False),
               ("stress_rel_l2", "stress field error vs live", False)]
-    fig, axes = plt.subplots(1, len(panels), figsize=(5 * len(panels), 4.2), layout="constrained")
+    # A last, empty column holds the legend: the bars fill every panel.
+    fig, axes = plt.subplots(1, len(panels) + 1, figsize=(5 * len(panels) + 2.5, 4.2), layout="constrained",
+                             gridspec_kw={"width_ratios": [1] * len(panels) + [0.5]})
     width = 0.8 / len(RUNS)
     for ax, (key, label, log) in zip(axes, panels):
         for i, run in enumerate(RUNS):
@@ -200,7 +202,14 @@ def plot(summary, out):
         ax.set_title(label)
         if log:
             ax.set_yscale("log")
-    axes[1].legend(loc="upper left")  # the runout panel's left is empty: runs that stand have no runout
+    # Every draw of surrogate_budget over its bar: the bar is one draw, the dots its scatter.
+    at = (RUNS.index("surrogate_budget") - (len(RUNS) - 1) / 2) * width
+    draws = [(k + at, abs(change)) for k, n in enumerate(names)
+             for change in summary["scenes"][n]["runout_rel_change_draws"] if change is not None]
+    if draws:
+        axes[1].plot(*zip(*draws), "k.", label="surrogate_budget, each draw")
+    axes[-1].axis("off")
+    axes[-1].legend(*axes[1].get_legend_handles_labels(), loc="center left")
     fig.savefig(out, dpi=DPI)
     plt.close(fig)
 
