@@ -79,7 +79,7 @@ def write_scene(name, spec, library, build, args):
         settings["/grid/cell_size"] = grid["cell_size"] * spec["grid_factor"]
         settings["/grid/cells"] = [math.ceil(n / spec["grid_factor"]) for n in grid["cells"]]
     if "gravity_factor" in spec:
-        settings["/gravity/g"] = [g * spec["gravity_factor"] for g in json.loads(args.scene.read_text())["gravity"]["g"]]
+        settings.update(scenes.scaled_gravity(args.scene, spec["gravity_factor"]))
     if args.end:
         settings["/time/end"] = args.end
     scene_file = args.out / "scenes" / f"{name}.json"

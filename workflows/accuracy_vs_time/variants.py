@@ -8,9 +8,12 @@ by, against which every error is stated. CHAOS is the reference itself with grav
 12th digit: how far the reference's own trajectory moves under a change in the last bits, i.e. which
 part of each error no run, however exact its law, could avoid.
 A set may come with its own scene and cell (INPUTS); the others run on the demo's column."""
+import sys
 from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))
+from plotting.scenes import GRAVITY_PERTURBATION  # noqa: E402  (after the path set-up)
 
 LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
 
@@ -41,7 +44,7 @@ FULL = {
     NOISE_FLOOR: {"knob": "packing seed (noise floor)", "value": OTHER_SEED, "law": "live",
                   "preparation": {"seed": OTHER_SEED}},
     CHAOS: {"knob": "gravity × (1 + 1e-12) (the reference's chaos)", "value": "1+1e-12", "law": "live",
-            "gravity_factor": 1 + 1e-12},
+            "gravity_factor": 1 + GRAVITY_PERTURBATION},
     "q_t_0.2": {"knob": "Q_t", "value": 0.2, "law": "live", "material": {"substepping": {"q_t": 0.2}}},
     "q_t_0.05": {"knob": "Q_t", "value": 0.05, "law": "live", "material": {"substepping": {"q_t": 0.05}}},
     "q_n_200": {"knob": "Q_n", "value": 200, "law": "live", "material": {"substepping": {"q_n": 200}}},
@@ -72,7 +75,7 @@ FULL = {
     **{f"surrogate_budget_300_draw_{k}": {"knob": "surrogate error budget [Pa] (tolerance 50 Pa), another draw",
                                           "value": f"gravity × {factor!r}", "law": "surrogate",
                                           "material": surrogate(error_budget_pa=300.0), "gravity_factor": factor}
-       for k, factor in ((1, 1 + 1e-12), (2, 1 - 1e-12))},
+       for k, factor in ((1, 1 + GRAVITY_PERTURBATION), (2, 1 - GRAVITY_PERTURBATION))},
     "surrogate_tol_100_budget_300": {"knob": "surrogate error budget [Pa] (tolerance 100 Pa)", "value": 300.0,
                                      "law": "surrogate", "material": surrogate(tolerance_pa=100.0, error_budget_pa=300.0)},
     # A library of this scene's own states: the second run of a scene (a re-run, a parameter study).

@@ -61,22 +61,13 @@ RUNS = ("live", "live_seed", "live_perturbed", "hybrid", "surrogate", "surrogate
 # The live run each run is measured against: the one on its own template.
 REFERENCE = {"surrogate_budget_seed": "live_seed"}
 SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus this
-PERTURBATION = 1e-12  # of gravity, relative: a change in its 12th digit
 
 
-def draw_runs(draws):
-    """The runs that draw surrogate_budget again, each on gravity × its gravity_factor."""
-    return [f"surrogate_budget_draw_{k}" for k in range(1, draws)]
-
-
-def gravity_factor(run):
-    """live_perturbed's and the draws' gravity over the scene's: 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, … ."""
-    if run == "live_perturbed":
-        return 1 + PERTURBATION
-    if run.startswith("surrogate_budget_draw_"):
-        k = int(run.rsplit("_", 1)[1])
-        return 1 + (1 if k % 2 else -1) * ((k + 1) // 2) * PERTURBATION
-    return None
+def draw_factors(draws):
+    """The runs that draw surrogate_budget again, each with its gravity over the scene's: 1 + 1e-12,
+    1 − 1e-12, 1 + 2e-12, … ."""
+    return {f"surrogate_budget_draw_{k}": 1 + (1 if k % 2 else -1) * ((k + 1) // 2) * scenes.GRAVITY_PERTURBATION
+            for k in range(1, draws)}
 
 
 def cell_file(args, bond, seed_offset):
@@ -136,7 +127,8 @@ def run_scene(name, settings, libs, surrogate, build, args):
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
              "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget}),
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
-    specs.update({run: specs["surrogate_budget"] for run in draw_runs(args.draws)})
+    gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draw_factors(args.draws)}
+    specs.update({run: specs["surrogate_budget"] for run in draw_factors(args.draws)})
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
@@ -144,13 +136,11 @@ def run_scene(name, settings, libs, surrogate, build, args):
     bare = folder / f"{name}.json"
     scenes.variant(build, args.scene, bare, "live", None, {"fallback": None}, settings)
     costs = {}
-    gravity = json.loads(bare.read_text())["gravity"]["g"]
     for run in specs:
         law, library, material = specs[run]
         scene_file = folder / f"{name}_{run}.json"
-        factor = gravity_factor(run)
         scenes.variant(build, bare, scene_file, law, library, material,
-                       {"/gravity/g": [g * factor for g in gravity]} if factor else None)
+                       scenes.scaled_gravity(bare, gravity_factors[run]) if run in gravity_factors else None)
         costs[run] = run_compare.timed_scene_run(build, scene_file, args.out / "runs" / name / run, args.threads)
         print(f"{name} {run}: {costs[run]['cpu_s']:.1f} s CPU{' (' + costs[run]['failed'] + ')' if costs[run]['failed'] else ''}",
               flush=True)
@@ -175,7 +165,7 @@ def measure(name, costs, args):
     s = runs["surrogate_budget"]  # the demo's setting, the one that lets no column stand that falls live
     draws = [run_compare.final_runout_change(*(tables.read_csv(args.out / "runs" / name / r / "series.csv")
                                                for r in (run, "live")))
-             for run in ["surrogate_budget", *draw_runs(args.draws)]]
+             for run in ["surrogate_budget", *draw_factors(args.draws)]]
     measured = [change for change in draws if change is not None]  # None: the live column ran out < 1 cm
     return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
             "runout_rel_error": abs(sum(measured) / len(measured)) if measured else None,

@@ -8,6 +8,16 @@ import subprocess
 from pathlib import Path
 
 
+# A relative change of gravity in its 12th digit: a run's last bits. The studies' chaos floor is the
+# reference run so changed, and their further draws of a run are changed by multiples of it.
+GRAVITY_PERTURBATION = 1e-12
+
+
+def scaled_gravity(scene_file, factor):
+    """The setting {JSON pointer: value} of the gravity of `scene_file` times `factor`, for variant()."""
+    return {"/gravity/g": [g * factor for g in json.loads(Path(scene_file).read_text())["gravity"]["g"]]}
+
+
 def add_nonlocal_length_option(parser, help_text):
     """Adds --nonlocal-length ℓ [m] to `parser`: a positive length, or None (local cells) when absent."""
     def positive_length(text):
