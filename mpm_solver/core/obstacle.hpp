@@ -47,8 +47,8 @@ class Obstacle {
   const std::vector<double>& tangential_history() const { return tangential_; }
   void set_tangential_history(std::vector<double> history) { tangential_ = std::move(history); }
 
-  // Contact force on the disk (centre x, radius r, velocity v, mass m) of point `id` at time t over a
-  // step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
+  // Contact force on the disk (centre x, radius r, mass m) of point `id` moving with the material's
+  // velocity v there (material_velocity_at, transfers.hpp) at time t over a step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
   // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
   // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says

@@ -139,8 +139,8 @@ void Solver::step(double dt) {
   if (steps_ % settings_.sort_interval == 0) timed(phase_times_.sort, [&] { sort_points_by_cell(); });
   if (distribution_.spread() && steps_ > 0 && steps_ % settings_.rebalance_interval == 0) rebalance();
   locate_points();
-  timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
   timed(phase_times_.particles_to_grid, [&] { particles_to_grid(grid_, points_, stencils_, buffers_); });
+  timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
   timed(phase_times_.grid, [&] {
     update_grid(grid_, gravity_.at(time_));
     if (settings_.homogeneous_drive) impose_homogeneous_velocity(grid_, *settings_.homogeneous_drive);
@@ -197,16 +197,19 @@ void Solver::locate_points() {
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
+  const bool any_active = std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.active(time_); });
   FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
     mp.external_force.setZero();
+    if (!any_active) continue;
+    const Vec2 velocity = material_velocity_at(grid_, stencils_[p]);
     for (std::size_t k = 0; k < obstacles_.size(); ++k) {
       Obstacle& o = obstacles_[k];
       if (!o.active(time_)) continue;
       try {
-        mp.external_force += o.contact_force(mp.id, mp.position, mp.velocity, mp.radius, mp.mass, time_, dt);
+        mp.external_force += o.contact_force(mp.id, mp.position, velocity, mp.radius, mp.mass, time_, dt);
       } catch (const std::exception& e) {
         failure.capture("material point " + std::to_string(mp.id) + " (obstacle " + std::to_string(k) + ")" +
                             at_time(time_),
@@ -215,6 +218,7 @@ void Solver::apply_obstacle_contacts(double dt) {
     }
   }
   failure.rethrow_if_any();
+  add_external_forces(grid_, points_, stencils_);
 }
 
 void Solver::update_stresses(double dt) {

@@ -80,10 +80,37 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
         const Vec2 grad(s.gx[a] * s.wy[b], s.wx[a] * s.gy[b]);
         acc.mass[row + a] += N * mp.mass;
         acc.momentum[row + a] += N * momentum.at(s, a, b);
-        acc.force[row + a] += N * mp.external_force - vs * grad;
+        acc.force[row + a] -= vs * grad;
       }
     }
   });
+}
+
+Vec2 material_velocity_at(const Grid& grid, const Stencil& s) {
+  const std::size_t stride = grid.nodes_x();
+  Vec2 v = Vec2::Zero();
+  for (int b = 0; b < 4; ++b) {
+    const std::size_t row = s.first_node + b * stride;
+    for (int a = 0; a < 4; ++a) {
+      const double m = grid.sums.mass[row + a];
+      if (m > 0) v += (s.wx[a] * s.wy[b] / m) * grid.sums.momentum[row + a];
+    }
+  }
+  return v;
+}
+
+void add_external_forces(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils) {
+  const std::size_t stride = grid.nodes_x();
+  // Serial: only the few points touching an obstacle carry a force.
+  for (std::size_t p = 0; p < points.size(); ++p) {
+    const Vec2& f = points[p].external_force;
+    if (f.isZero(0)) continue;
+    const Stencil& s = stencils[p];
+    for (int b = 0; b < 4; ++b) {
+      const std::size_t row = s.first_node + b * stride;
+      for (int a = 0; a < 4; ++a) grid.sums.force[row + a] += (s.wx[a] * s.wy[b]) * f;
+    }
+  }
 }
 
 void update_grid(Grid& grid, const Vec2& gravity) {

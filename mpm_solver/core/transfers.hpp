@@ -41,10 +41,19 @@ struct ScatterBuffers {
 // Shape-function stencils of every point (the points must all lie inside the grid).
 void compute_stencils(const Grid& grid, const std::vector<MaterialPoint>& points, std::vector<Stencil>& stencils);
 
-// P2G: nodal mass, momentum and force: m_i v_i = Σ_p N_ip m_p (v_p + C_p (x_i − x_p)) with
-// C_p = B_p D_p⁻¹ (zero under FLIP/PIC), f_i = Σ_p (-V_p σ_p ∇N_ip + N_ip f_ext,p).
+// P2G: nodal mass, momentum and internal force: m_i v_i = Σ_p N_ip m_p (v_p + C_p (x_i − x_p)) with
+// C_p = B_p D_p⁻¹ (zero under FLIP/PIC), f_i = -Σ_p V_p σ_p ∇N_ip.
 void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
                        ScatterBuffers& buffers);
+
+// The material's velocity at a point as the grid carries it after P2G, Σ_i N_ip (m_i v_i) / m_i.
+// Under a FLIP blend a point's own v_p also holds fluctuations the grid does not see; they do not
+// move the point (positions follow the grid), so a contact driven by them would do work on the grid
+// that no displacement pays for.
+Vec2 material_velocity_at(const Grid& grid, const Stencil& s);
+
+// Adds the points' external (obstacle contact) forces to the nodal forces: f_i += Σ_p N_ip f_ext,p.
+void add_external_forces(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils);
 
 // Nodal velocity v_i = q_i / m_i and acceleration a_i = f_i / m_i + g at nodes carrying mass.
 void update_grid(Grid& grid, const Vec2& gravity);
