@@ -1,6 +1,7 @@
 """The Lube validation (workflows/lube_validation): the quick study runs the coarse a = 1 column to
 rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
-scene generator's column is what the study measures, with or without μ(I)."""
+scene generator's column is what the study measures, with or without μ(I); a heap below its friction
+angle stands."""
 import json
 import math
 import shutil
@@ -46,6 +47,18 @@ class LubeValidationTest(WorkflowTest):
         run([BUILD / "mpm_solver" / "mpm_solver", out, "--out", self.out / "mu_i", "--threads", "1",
              "--set", "/time/end=0.03"])
         self.assertTrue((self.out / "mu_i" / "summary.json").exists())
+
+
+    def test_heap_below_its_friction_angle_stands(self):
+        """heap.py on a coarse 25° heap of the 30° sand: it prints its row, and the apex settles only
+        elastically (ρ g H² / 2E = 0.013 mm; stop 47's contact let it creep 0.3 mm)."""
+        out = run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "heap.py", self.out, "--build", BUILD,
+                   "--slopes", "25", "--cell-sizes", "0.02", "--transfers", "apic_flip:5"])
+        row = [line for line in out.splitlines() if line.startswith("| 25° | apic_flip:5 | 0.02 |")]
+        self.assertEqual(len(row), 1, out)
+        settled_mm = float(row[0].split("|")[5])
+        self.assertLess(abs(settled_mm), 0.05)
+        self.assertTrue((self.out / "slope25_apic_flip5_h0.02" / "run" / "summary.json").exists())
 
 
 class LiveLubeTest(WorkflowTest):
