@@ -48,7 +48,8 @@ class Obstacle {
   void set_tangential_history(std::vector<double> history) { tangential_ = std::move(history); }
 
   // Contact force on the disk (centre x, radius r, mass m) of point `id` moving with the material's
-  // velocity v there (material_velocity_at, transfers.hpp) at time t over a step dt; zero when apart. Updates only the history of `id` (safe across distinct points).
+  // velocity v there (material_velocity_at, transfers.hpp) at time t over a step dt; zero when apart.
+  // Updates only the history of `id` (safe across distinct points).
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
   // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
   // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says

@@ -197,7 +197,8 @@ void Solver::locate_points() {
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
-  const bool any_active = std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.active(time_); });
+  const bool any_active =
+      std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.active(time_); });
   FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
