@@ -20,7 +20,7 @@ struct VelocityTransfer {
   // The default, APIC-FLIP at 5 PIC per second: APIC alone damps at every transfer, so its runouts
   // depend on Δt (issue 17); at rates of 0 to 1/s the elastic ringing of a settled granular column
   // never decays (its kinetic energy stays above 1e-4 of the peak), from 5/s on it does, while the
-  // runout hardly depends on the rate (1.389 at 5/s, 1.384 at 20/s, L0/h = 10).
+  // runout hardly depends on the rate (1.389 at 5/s, 1.384 at 20/s, L0/h = 10, when it was chosen).
   Kind kind = Kind::apic_flip;
   // Blends only: the PIC fraction per unit time r [1/s], so that the damping does not depend on
   // the time step: a step of Δt blends in the PIC velocity with weight 1 − exp(−r Δt). 0 = pure
