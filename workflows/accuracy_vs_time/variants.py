@@ -23,7 +23,10 @@ def lookup(**keys):
 
 
 def hybrid(start="warm_start", return_after=10, **lookup_keys):
-    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after}, "enrich": False}
+    """The total-strain key; a base scene's surrogate servo tolerance, which the hybrid fallback does not
+    take, is removed (null)."""
+    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None},
+            "enrich": False}
 
 
 def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
