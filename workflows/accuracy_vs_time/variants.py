@@ -85,7 +85,7 @@ FULL = {
     # `enriching` builds it (hybrid on the bare template: every point live from its first step, the
     # live law to round-off); the runs after it look up in it.
     "enriching": {"knob": "library of this scene", "value": "building it", "law": "hybrid", "library": "enriched",
-                  "material": {**lookup(), "fallback": {"start": "warm_start", "return_after": 0}, "enrich": True}},
+                  "material": {**hybrid(return_after=0), "enrich": True}},
     "hybrid_enriched": {"knob": "library of this scene", "value": "hybrid, tolerance 10", "law": "hybrid",
                         "library": "enriched", "material": hybrid(tolerance=10.0, return_after=5)},
     "cache_enriched": {"knob": "library of this scene", "value": "cache", "law": "cache", "library": "enriched",
