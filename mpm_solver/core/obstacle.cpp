@@ -42,24 +42,24 @@ std::string Obstacle::penetration_message(double overlap, double radius, double 
   return msg.str();
 }
 
-Vec2 Obstacle::contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass,
-                             double t, double dt) {
+std::optional<Obstacle::Touch> Obstacle::touching(const Vec2& x, double radius, double t) const {
   // Work in the obstacle's frame: it only translates.
   const Vec2 x_local = x - velocity_ * t;
   const Vec2 to_point = x_local - closest_point(shape_, x_local);
   const double d = to_point.norm();
   const bool inside = contains(shape_, x_local);
   const double overlap = inside ? radius + d : radius - d;
-  if (overlap <= 0 || d == 0) {
-    if (contact_.friction > 0) tangential_[id] = 0;
-    return Vec2::Zero();
-  }
-  if (overlap > kMaxPenetration * radius) throw PenetrationError(penetration_message(overlap, radius, mass, v));
-  // Unit normal pushing the point out of the obstacle.
-  const Vec2 n = (inside ? -to_point : to_point) / d;
+  if (overlap <= 0 || d == 0) return std::nullopt;
+  return Touch{(inside ? -to_point : to_point) / d, overlap};
+}
+
+Vec2 Obstacle::force(std::uint32_t id, const Touch& touch, const Vec2& v, double radius, double mass, double dt) {
+  if (touch.overlap > kMaxPenetration * radius)
+    throw PenetrationError(penetration_message(touch.overlap, radius, mass, v));
+  const Vec2& n = touch.normal;
   const Vec2 v_rel = v - velocity_;
   const double damping = 2 * contact_.damping_ratio * std::sqrt(mass * contact_.k_n);
-  const double fn = std::max(0.0, contact_.k_n * overlap - damping * v_rel.dot(n));
+  const double fn = std::max(0.0, contact_.k_n * touch.overlap - damping * v_rel.dot(n));
   if (contact_.friction == 0) return fn * n;
   const Vec2 tangent(-n.y(), n.x());
   const double cap = contact_.friction * fn;

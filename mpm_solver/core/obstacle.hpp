@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -47,18 +48,33 @@ class Obstacle {
   const std::vector<double>& tangential_history() const { return tangential_; }
   void set_tangential_history(std::vector<double> history) { tangential_ = std::move(history); }
 
-  // Contact force on the disk (centre x, radius r, mass m) of point `id` moving with the material's
-  // velocity v there (material_velocity_at, transfers.hpp) at time t over a step dt; zero when apart.
-  // Updates only the history of `id` (safe across distinct points).
+  // Contact force on the disk (centre x, radius r, mass m) of point `id` at time t over a step dt;
+  // zero when apart. `velocity_at()` gives the material's velocity at the point (material_velocity_at,
+  // transfers.hpp); it is asked only when the disk touches, the few points of a large body. Updates
+  // only the history of `id` (safe across distinct points).
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
   // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
   // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says
   // which of the two it is: for an impact the k_n that would have stopped it, for a load the force the
   // spring holds at the allowed overlap.
-  Vec2 contact_force(std::uint32_t id, const Vec2& x, const Vec2& v, double radius, double mass, double t,
-                     double dt);
+  template <class VelocityAt>
+  Vec2 contact_force(std::uint32_t id, const Vec2& x, VelocityAt&& velocity_at, double radius, double mass, double t,
+                     double dt) {
+    const std::optional<Touch> touch = touching(x, radius, t);
+    if (!touch) {
+      if (contact_.friction > 0) tangential_[id] = 0;
+      return Vec2::Zero();
+    }
+    return force(id, *touch, velocity_at(), radius, mass, dt);
+  }
 
  private:
+  struct Touch {
+    Vec2 normal;     // unit, pushing the point out of the obstacle
+    double overlap;  // > 0 [m]
+  };
+  std::optional<Touch> touching(const Vec2& x, double radius, double t) const;
+  Vec2 force(std::uint32_t id, const Touch& touch, const Vec2& v, double radius, double mass, double dt);
   std::string penetration_message(double overlap, double radius, double mass, const Vec2& v) const;
 
   Polyline shape_;

@@ -197,20 +197,17 @@ void Solver::locate_points() {
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
-  const bool any_active =
-      std::any_of(obstacles_.begin(), obstacles_.end(), [&](const Obstacle& o) { return o.active(time_); });
   FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     MaterialPoint& mp = points_[p];
     mp.external_force.setZero();
-    if (!any_active) continue;
-    const Vec2 velocity = material_velocity_at(grid_, stencils_[p]);
+    const auto velocity_at = [&] { return material_velocity_at(grid_, stencils_[p]); };
     for (std::size_t k = 0; k < obstacles_.size(); ++k) {
       Obstacle& o = obstacles_[k];
       if (!o.active(time_)) continue;
       try {
-        mp.external_force += o.contact_force(mp.id, mp.position, velocity, mp.radius, mp.mass, time_, dt);
+        mp.external_force += o.contact_force(mp.id, mp.position, velocity_at, mp.radius, mp.mass, time_, dt);
       } catch (const std::exception& e) {
         failure.capture("material point " + std::to_string(mp.id) + " (obstacle " + std::to_string(k) + ")" +
                             at_time(time_),

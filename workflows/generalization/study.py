@@ -127,8 +127,9 @@ def run_scene(name, settings, libs, surrogate, build, args):
              "hybrid": ("hybrid", libs["generic"], HYBRID), "surrogate": ("surrogate", libs["generic"], surrogate),
              "surrogate_budget": ("surrogate", libs["generic"], {**surrogate, "error_budget": args.error_budget}),
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
-    gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draw_factors(args.draws)}
-    specs.update({run: specs["surrogate_budget"] for run in draw_factors(args.draws)})
+    draws = draw_factors(args.draws)
+    gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draws}
+    specs.update({run: specs["surrogate_budget"] for run in draws})
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
