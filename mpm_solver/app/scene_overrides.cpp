@@ -51,6 +51,22 @@ void merge_material(nlohmann::json& material, const nlohmann::json& patch) {
     if (patch.contains(key)) make_absolute(material, key, std::filesystem::current_path());
 }
 
+// A merge patch may add a key the material's law does not take; the loader would refuse it only when
+// the scene is run, so the rewritten scene is refused here, naming the key. Keys nested in a block
+// (a fallback's) are checked by the law's reader when the scene is loaded.
+void require_keys_of_its_law(const nlohmann::json& material) {
+  const std::string law = material.value("law", "");
+  const std::optional<LawKind> kind = find_law_kind(law);
+  if (!kind) return;  // the loader names an unknown law
+  for (const auto& [key, value] : material.items())
+    if (std::find(kind->keys.begin(), kind->keys.end(), key) == kind->keys.end()) {
+      std::string keys;
+      for (std::string_view k : kind->keys) keys.append(keys.empty() ? "" : ", ").append(k);
+      throw common::InputError("--material: key \"" + key + "\" is not a key of law \"" + law + "\" (expected one of " +
+                               keys + ")");
+    }
+}
+
 // The flags that act on the DEM-backed materials, as the user typed them ("--law/--material").
 std::string material_flags(const SceneOverrides& o) {
   std::string flags;
@@ -140,7 +156,10 @@ nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path
         m["library"] = std::filesystem::absolute(*overrides.library).lexically_normal().string();
         if (!m.contains("template")) m["template"] = 1;  // a cell's material had none: the library's first
       }
-      if (overrides.material) merge_material(m, *overrides.material);
+      if (overrides.material) {
+        merge_material(m, *overrides.material);
+        require_keys_of_its_law(m);
+      }
     }
   const std::string flags = material_flags(overrides);
   if (rewritten == 0 && !flags.empty())

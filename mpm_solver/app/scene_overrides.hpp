@@ -43,8 +43,9 @@ SceneSetting parse_setting(std::string_view text);
 //   removes a key; its relative "cell" and "library" are relative to the working directory).
 // The material paths "cell" and "library" are made absolute against `scene_folder`, so the result can
 // be read from anywhere. Then each setting is applied to the whole scene, in order.
-// Throws common::InputError naming the flag and the expected value: an unknown law name, or a scene
-// without any DEM-backed material to apply --law, --library or --material to.
+// Throws common::InputError naming the flag and the expected value: an unknown law name, a --material
+// key that the material's law does not take, or a scene without any DEM-backed material to apply
+// --law, --library or --material to.
 nlohmann::json apply_overrides(nlohmann::json scene, const std::filesystem::path& scene_folder,
                                const SceneOverrides& overrides);
 

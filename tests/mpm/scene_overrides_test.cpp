@@ -115,6 +115,17 @@ TEST(SceneOverrides, MaterialPatchMergesIntoDemBackedMaterialsAfterTheLaw) {
   EXPECT_EQ(out["materials"][1]["law"], "hybrid");
 }
 
+// A key the law does not take is refused when the variant is written, not when it is run.
+TEST(SceneOverrides, MaterialPatchWithAKeyItsLawDoesNotTakeIsRefused) {
+  const std::string error =
+      error_of(kScene, overrides("live", std::nullopt, parse_material_patch(R"({"error_budget": 300})")));
+  EXPECT_EQ(error.rfind("--material: key \"error_budget\" is not a key of law \"live\" (expected one of ", 0), 0u)
+      << error;
+  // The surrogate takes it.
+  EXPECT_NO_THROW(apply_overrides(kScene, "/scenes",
+                                  overrides("surrogate", std::nullopt, parse_material_patch(R"({"error_budget": 300})"))));
+}
+
 TEST(SceneOverrides, MaterialPatchWithACellReplacesTheLibrary) {
   const SceneOverrides o = overrides("live", "/data/LIB", nlohmann::json{{"cell", "/cells/c64.json"}});
   const nlohmann::json out = apply_overrides(kScene, "/scenes", o);

@@ -13,29 +13,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting.scenes import GRAVITY_PERTURBATION  # noqa: E402  (after the path set-up)
-
-LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
-
-
-def lookup(**keys):
-    return {"lookup": {**LOOKUP, **keys}}
-
-
-def hybrid(start="warm_start", return_after=10, **lookup_keys):
-    """The total-strain key; a base scene's surrogate servo tolerance, which the hybrid fallback does not
-    take, is removed (null)."""
-    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None},
-            "enrich": False}
-
-
-def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
-    """The state-keyed surrogate, back after 5 steps within its tolerance as in the demo; a base scene's
-    hybrid fallback start, which the surrogate does not take, is removed (null), and so is the base's
-    error budget unless one is given."""
-    return {"tolerance": tolerance_pa, "error_budget": error_budget_pa,
-            "fallback": {"start": None, "return_after": return_after}}
-
+from plotting.scenes import GRAVITY_PERTURBATION, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
 
 NOISE_FLOOR = "other_seed"
 CHAOS = "perturbed"

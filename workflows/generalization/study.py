@@ -55,8 +55,7 @@ from plotting.timing import timed  # noqa: E402
 WORKFLOWS = HERE.parent
 ROOT = WORKFLOWS.parent
 CELL = WORKFLOWS / "demo" / "cell_soft_snow_125.json"
-HYBRID = {"lookup": {"k": 4, "tolerance": 10.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}},
-          "fallback": {"start": "warm_start", "return_after": 5}, "enrich": False}
+HYBRID = scenes.hybrid(tolerance=10.0, return_after=5)
 RUNS = ("live", "live_seed", "live_perturbed", "hybrid", "surrogate", "surrogate_budget", "surrogate_budget_seed")
 # The live run each run is measured against: the one on its own template.
 REFERENCE = {"surrogate_budget_seed": "live_seed"}

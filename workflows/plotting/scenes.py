@@ -13,6 +13,30 @@ from pathlib import Path
 GRAVITY_PERTURBATION = 1e-12
 
 
+# The material keys of the library laws, as the studies run them. `lookup` is the total-strain key of
+# `cache` and `hybrid`; `hybrid` adds its live fallback; `surrogate` is the state key.
+LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
+
+
+def lookup(**keys):
+    return {"lookup": {**LOOKUP, **keys}}
+
+
+def hybrid(start="warm_start", return_after=10, **lookup_keys):
+    """The total-strain key; a base scene's surrogate servo tolerance, which the hybrid fallback does not
+    take, is removed (null)."""
+    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None},
+            "enrich": False}
+
+
+def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
+    """The state-keyed surrogate, back after 5 steps within its tolerance as in the demo; a base scene's
+    hybrid fallback start, which the surrogate does not take, is removed (null), and so is the base's
+    error budget unless one is given."""
+    return {"tolerance": tolerance_pa, "error_budget": error_budget_pa,
+            "fallback": {"start": None, "return_after": return_after}}
+
+
 def scaled_gravity(scene_file, factor):
     """The setting {JSON pointer: value} of the gravity of `scene_file` times `factor`, for variant()."""
     return {"/gravity/g": [g * factor for g in json.loads(Path(scene_file).read_text())["gravity"]["g"]]}
