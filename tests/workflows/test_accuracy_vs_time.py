@@ -2,7 +2,8 @@
 tiny column, live reference, its noise and chaos floors, three variants (one the surrogate) and a hybrid run on a library the study enriched with the
 scene's own states; table, Pareto plot and study JSON; resumed with a run left out. The creeping set
 (the former cache_vs_live) on the tiny column: its own cell, no generic paths, its scenes written by
-`mpm_solver scene`. Every run of the sets on the demo's column makes a scene the solver takes."""
+`mpm_solver scene`. Every run of the sets on the demo's column makes a scene the solver takes. flow_state reads a run's
+flowing points by the source of their stress."""
 import csv
 import json
 import math
@@ -16,7 +17,8 @@ from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, Workflo
 from plotting import flow, run_compare, tables, vtu
 
 sys.path.insert(0, str(WORKFLOWS / "accuracy_vs_time"))
-import study  # noqa: E402  (after the path set-up)
+import flow_state  # noqa: E402  (after the path set-up)
+import study  # noqa: E402
 import variants  # noqa: E402
 
 
@@ -48,6 +50,16 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertEqual(surrogate["library"], str((self.out / "lib").resolve()))
         self.assertGreater(sum(tables.read_csv(self.out / "runs" / "surrogate" / "series.csv")["hits"]), 0)
         self.assertGreater(float(rows["surrogate"]["stress_rel_l2"]), 0.0)
+        # flow_state splits every point-snapshot by where its stress came from: all of live's from its
+        # cells, the surrogate's from the library too.
+        everything = {"after": 0.0, "rate": -1.0, "pressure": -math.inf}
+        snapshots = len(vtu.read_run(self.out / "runs" / "live"))
+        live_state = flow_state.flowing_state(self.out / "runs" / "live", **everything)
+        self.assertEqual(list(live_state), ["live"])
+        self.assertEqual(live_state["live"][0], 4 * snapshots)
+        surrogate_state = flow_state.flowing_state(self.out / "runs" / "surrogate", **everything)
+        self.assertIn("hit", surrogate_state)
+        self.assertEqual(sum(s[0] for s in surrogate_state.values()), 4 * len(vtu.read_run(self.out / "runs" / "surrogate")))
         # The noise floor: the live law on a cell packed with another seed is another run, not a copy.
         demo_cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_250.json").read_text())
         other_cell = json.loads((self.out / "cells" / "other_seed.json").read_text())
