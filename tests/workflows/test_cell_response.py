@@ -30,11 +30,14 @@ class CellResponseTest(WorkflowTest):
 
     def test_mu_of_i(self):
         run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out, "--build", BUILD,
-             "--seeds", "1", "--inertial-numbers", "0.01", "0.2", "--spheres", "64", "--strain", "3"])
+             "--seeds", "1", "--inertial-numbers", "0.01", "0.2", "--spheres", "64", "--strain", "3",
+             "--pressure", "2000", "--restitution", "0.5"])
         with (self.out / "mu_of_i.csv").open() as f:
             slow, fast = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
         for r in (slow, fast):
-            self.assertAlmostEqual(r["normal_stress"], 1000, delta=20)  # the servo holds P
+            self.assertAlmostEqual(r["normal_stress"], 2000, delta=40)  # the servo holds P
+        cell = json.loads((self.out / "seed1" / "cell.json").read_text())
+        self.assertEqual((cell["material"]["restitution"], cell["preparation"]["pressure"]), (0.5, 2000.0))
         self.assertGreater(fast["mu"], slow["mu"])
         self.assertLess(fast["phi"], slow["phi"])
         self.assertIn("Fit: μ_s =", (self.out / "mu_of_i.md").read_text())

@@ -4,12 +4,14 @@
 
 For each packing seed the cell of moduli.py (dense, μ_p = 0.5, no bonds) is prepared at P and sheared
 by `dem_sampler rheometer` at every inertial number, from the prepared state each time, to a strain
-`--strain` (steady from γ = 1). The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
+`--strain` (steady from γ = 1). `--pressure` and `--restitution` change P and the contacts'
+restitution (the cell's stiffness number κ = k_n/(P d) scales as 1/P), to tell the causes of a
+μ_s apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
 seed means (least squares, weighted by the standard error). Jop et al.'s glass beads (μ_s = tan 20.9°,
 μ_2 = tan 32.76°, I_0 = 0.279) are drawn for the shape, not as a target: their grains are not these.
 
   /usr/bin/python3 mu_of_i.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--inertial-numbers 0.003 0.01 0.03 0.1 0.3]
-                              [--spheres 125] [--strain 6]
+                              [--spheres 125] [--strain 6] [--pressure 1000] [--restitution 0.3]
 
 Writes OUT/mu_of_i.csv (one row per seed and I), OUT/mu_of_i.md (means, standard deviations over
 seeds and the fit) and OUT/mu_of_i.png.
@@ -31,7 +33,6 @@ from plotting.figures import plt, DPI  # noqa: E402
 
 import moduli  # noqa: E402  (the same cells)
 
-PRESSURE = 1000  # [Pa]
 JOP_BEADS = (math.tan(math.radians(20.9)), math.tan(math.radians(32.76)), 0.279)
 PUBLISHED_MU_S = (0.35, 0.40)  # spheres with μ_p = 0.5, as issue 18 states it
 
@@ -54,9 +55,10 @@ def fit(inertial_numbers, mu, error):
     return best[1:]
 
 
-def run_seed(build, folder, seed, spheres, inertial_numbers, strain):
+def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, restitution):
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, PRESSURE, spheres, "dense")))
+    material = {**moduli.MATERIAL, "restitution": restitution}
+    (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, pressure, spheres, "dense", material)))
     out = folder / "rheometer.csv"
     done = subprocess.run([str(build / "dem_sampler" / "dem_sampler"), "rheometer", str(folder / "cell.json"),
                            "--inertial-numbers", ",".join(f"{i:g}" for i in inertial_numbers),
@@ -112,10 +114,13 @@ def main():
     parser.add_argument("--inertial-numbers", type=float, nargs="+", default=[0.003, 0.01, 0.03, 0.1, 0.3])
     parser.add_argument("--spheres", type=int, default=125)
     parser.add_argument("--strain", type=float, default=6)
+    parser.add_argument("--pressure", type=float, default=1000.0, help="normal stress P [Pa]")
+    parser.add_argument("--restitution", type=float, default=moduli.MATERIAL["restitution"],
+                        help="the contacts' coefficient of restitution")
     args = parser.parse_args()
     rows = [r for seed in args.seeds
             for r in run_seed(args.build.resolve(), args.out / f"seed{seed}", seed, args.spheres, args.inertial_numbers,
-                              args.strain)]
+                              args.strain, args.pressure, args.restitution)]
     means = summary(rows)
     law = fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])
     with (args.out / "mu_of_i.csv").open("w", newline="") as f:
@@ -127,6 +132,7 @@ def main():
               f"{m['P']:.1f} | {mu_law(m['I'], *JOP_BEADS):.3f} |" for m in means]
     lines.append(f"\nFit: μ_s = {law[0]:.3f}, μ_2 = {law[1]:.3f}, I_0 = {law[2]:.3g} "
                  f"(published μ_s for μ_p = 0.5: {PUBLISHED_MU_S[0]}–{PUBLISHED_MU_S[1]})")
+    lines.append(f"Cells: {args.spheres} spheres, P = {args.pressure:g} Pa, restitution {args.restitution:g}")
     text = "\n".join(lines) + "\n"
     (args.out / "mu_of_i.md").write_text(text)
     plot(rows, means, law, args.out / "mu_of_i.png")
