@@ -118,6 +118,10 @@ def main():
     parser.add_argument("--restitution", type=float, default=moduli.MATERIAL["restitution"],
                         help="the contacts' coefficient of restitution")
     args = parser.parse_args()
+    if not args.pressure > 0:
+        parser.error(f"--pressure: expected a positive normal stress [Pa], got {args.pressure:g}")
+    if not 0 < args.restitution <= 1:
+        parser.error(f"--restitution: expected a coefficient in (0, 1], got {args.restitution:g}")
     rows = [r for seed in args.seeds
             for r in run_seed(args.build.resolve(), args.out / f"seed{seed}", seed, args.spheres, args.inertial_numbers,
                               args.strain, args.pressure, args.restitution)]
