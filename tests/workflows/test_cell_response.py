@@ -6,6 +6,7 @@ stronger at its peak than once its bonds near the shear have broken, and its pea
 cohesion."""
 import csv
 import json
+import subprocess
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -42,6 +43,11 @@ class CellResponseTest(WorkflowTest):
         self.assertLess(fast["phi"], slow["phi"])
         self.assertIn("Fit: μ_s =", (self.out / "mu_of_i.md").read_text())
         self.assert_png(self.out / "mu_of_i.png")
+        for option, value in (("--pressure", "-1"), ("--restitution", "1.5")):
+            refused = subprocess.run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out / "bad",
+                                      option, value], capture_output=True, text=True)
+            self.assertNotEqual(refused.returncode, 0)
+            self.assertIn(f"{option}: expected", refused.stderr)
 
     def test_strength_of_the_bonded_snow_cell(self):
         run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "strength.py", self.out, "--build", BUILD,
