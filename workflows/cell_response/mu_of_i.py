@@ -4,14 +4,15 @@
 
 For each packing seed the cell of moduli.py (dense, μ_p = 0.5, no bonds) is prepared at P and sheared
 by `dem_sampler rheometer` at every inertial number, from the prepared state each time, to a strain
-`--strain` (steady from γ = 1). `--pressure` and `--restitution` change P and the contacts'
-restitution (the cell's stiffness number κ = k_n/(P d) scales as 1/P), to tell the causes of a
-μ_s apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
+`--strain` (steady from γ = 1). `--pressure`, `--restitution` and `--tangential-ratio` change P,
+the contacts' restitution and their k_t/k_n (the cell's stiffness number κ = k_n/(P d) scales as
+1/P), to tell the causes of a μ_s apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
 seed means (least squares, weighted by the standard error). Jop et al.'s glass beads (μ_s = tan 20.9°,
 μ_2 = tan 32.76°, I_0 = 0.279) are drawn for the shape, not as a target: their grains are not these.
 
   /usr/bin/python3 mu_of_i.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--inertial-numbers 0.003 0.01 0.03 0.1 0.3]
                               [--spheres 125] [--strain 6] [--pressure 1000] [--restitution 0.3]
+                              [--tangential-ratio 0.3]
 
 Writes OUT/mu_of_i.csv (one row per seed and I), OUT/mu_of_i.md (means, standard deviations over
 seeds and the fit) and OUT/mu_of_i.png.
@@ -55,9 +56,9 @@ def fit(inertial_numbers, mu, error):
     return best[1:]
 
 
-def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, restitution):
+def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, restitution, tangential_ratio):
     folder.mkdir(parents=True, exist_ok=True)
-    material = {**moduli.MATERIAL, "restitution": restitution}
+    material = {**moduli.MATERIAL, "restitution": restitution, "k_t": tangential_ratio * moduli.MATERIAL["k_n"]}
     (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, pressure, spheres, "dense", material)))
     out = folder / "rheometer.csv"
     done = subprocess.run([str(build / "dem_sampler" / "dem_sampler"), "rheometer", str(folder / "cell.json"),
@@ -117,14 +118,18 @@ def main():
     parser.add_argument("--pressure", type=float, default=1000.0, help="normal stress P [Pa]")
     parser.add_argument("--restitution", type=float, default=moduli.MATERIAL["restitution"],
                         help="the contacts' coefficient of restitution")
+    parser.add_argument("--tangential-ratio", type=float, default=moduli.MATERIAL["k_t"] / moduli.MATERIAL["k_n"],
+                        help="the contacts' k_t / k_n")
     args = parser.parse_args()
     if not args.pressure > 0:
         parser.error(f"--pressure: expected a positive normal stress [Pa], got {args.pressure:g}")
     if not 0 < args.restitution <= 1:
         parser.error(f"--restitution: expected a coefficient in (0, 1], got {args.restitution:g}")
+    if not 0 < args.tangential_ratio <= 1:
+        parser.error(f"--tangential-ratio: expected k_t/k_n in (0, 1], got {args.tangential_ratio:g}")
     rows = [r for seed in args.seeds
             for r in run_seed(args.build.resolve(), args.out / f"seed{seed}", seed, args.spheres, args.inertial_numbers,
-                              args.strain, args.pressure, args.restitution)]
+                              args.strain, args.pressure, args.restitution, args.tangential_ratio)]
     means = summary(rows)
     law = fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])
     with (args.out / "mu_of_i.csv").open("w", newline="") as f:
@@ -136,7 +141,8 @@ def main():
               f"{m['P']:.1f} | {mu_law(m['I'], *JOP_BEADS):.3f} |" for m in means]
     lines.append(f"\nFit: μ_s = {law[0]:.3f}, μ_2 = {law[1]:.3f}, I_0 = {law[2]:.3g} "
                  f"(published μ_s for μ_p = 0.5: {PUBLISHED_MU_S[0]}–{PUBLISHED_MU_S[1]})")
-    lines.append(f"Cells: {args.spheres} spheres, P = {args.pressure:g} Pa, restitution {args.restitution:g}")
+    lines.append(f"Cells: {args.spheres} spheres, P = {args.pressure:g} Pa, restitution {args.restitution:g}, "
+                 f"k_t/k_n {args.tangential_ratio:g}")
     text = "\n".join(lines) + "\n"
     (args.out / "mu_of_i.md").write_text(text)
     plot(rows, means, law, args.out / "mu_of_i.png")
