@@ -33,10 +33,14 @@ void make_absolute(nlohmann::json& material, const char* key, const std::filesys
 // Keys of the material's old law that the new one does not take (a `lookup` block on a live
 // material) would be refused by the loader. A cache/hybrid material may name its cell next to its
 // library (a check of the material); a live one takes one source, the library's template.
+bool takes_key(const LawKind& kind, std::string_view key) {
+  return std::find(kind.keys.begin(), kind.keys.end(), key) != kind.keys.end();
+}
+
 void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
-  const std::span<const std::string_view> keys = find_law_kind(law)->keys;
+  const LawKind kind = *find_law_kind(law);
   for (auto it = material.begin(); it != material.end();)
-    it = std::find(keys.begin(), keys.end(), it.key()) == keys.end() ? material.erase(it) : std::next(it);
+    it = takes_key(kind, it.key()) ? std::next(it) : material.erase(it);
   if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
@@ -59,7 +63,7 @@ void require_keys_of_its_law(const nlohmann::json& material) {
   const std::optional<LawKind> kind = find_law_kind(law);
   if (!kind) return;  // the loader names an unknown law
   for (const auto& [key, value] : material.items())
-    if (std::find(kind->keys.begin(), kind->keys.end(), key) == kind->keys.end()) {
+    if (!takes_key(*kind, key)) {
       std::string keys;
       for (std::string_view k : kind->keys) keys.append(keys.empty() ? "" : ", ").append(k);
       throw common::InputError("--material: key \"" + key + "\" is not a key of law \"" + law + "\" (expected one of " +

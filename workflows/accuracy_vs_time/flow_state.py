@@ -15,10 +15,6 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from plotting import vtu  # noqa: E402  (after the path set-up)
 
-# The VTU field `source` (mpm_solver/core/coupling_status.hpp: StressSource).
-SOURCES = {0: "analytic", 1: "live", 2: "hit", 3: "miss"}
-
-
 def flowing_state(folder, after, rate, pressure):
     """{source name: (points, median q/p, median D, median p [Pa])} of the flowing points of `folder`."""
     fields = [s.fields for s in vtu.read_run(folder) if s.time >= after]
@@ -30,7 +26,7 @@ def flowing_state(folder, after, rate, pressure):
     result = {}
     for source in np.unique(stack["source"][flowing]):
         chosen = flowing & (stack["source"] == source)
-        result[SOURCES.get(int(source), str(int(source)))] = (
+        result[vtu.STRESS_SOURCES[int(source)]] = (
             int(chosen.sum()), float(np.median(stack["deviatoric_stress"][chosen] / stack["pressure"][chosen])),
             float(np.median(stack["damage"][chosen])), float(np.median(stack["pressure"][chosen])))
     return result

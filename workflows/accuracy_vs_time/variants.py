@@ -13,14 +13,14 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting.scenes import GRAVITY_PERTURBATION, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
+from plotting.scenes import GRAVITY_PERTURBATION, draw_gravity_factors, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
 
 def drawn(name, knob, value, material):
     """The surrogate run `name` and two more draws of it on gravity changed in its 12th digit
     (`name`_draw_1, _draw_2): a run of the chaotic flow is one trajectory, and its error over the three
     tells its bias from its scatter, against CHAOS's."""
     runs = {name: {"knob": knob, "value": value, "law": "surrogate", "material": material}}
-    for k, factor in ((1, 1 + GRAVITY_PERTURBATION), (2, 1 - GRAVITY_PERTURBATION)):
+    for k, factor in enumerate(draw_gravity_factors(3), start=1):
         runs[f"{name}_draw_{k}"] = {"knob": f"{knob}, another draw", "value": f"gravity × {factor!r}",
                                     "law": "surrogate", "material": material, "gravity_factor": factor}
     return runs

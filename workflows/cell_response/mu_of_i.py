@@ -56,9 +56,8 @@ def fit(inertial_numbers, mu, error):
     return best[1:]
 
 
-def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, restitution, tangential_ratio):
+def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, material):
     folder.mkdir(parents=True, exist_ok=True)
-    material = {**moduli.MATERIAL, "restitution": restitution, "k_t": tangential_ratio * moduli.MATERIAL["k_n"]}
     (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, pressure, spheres, "dense", material)))
     out = folder / "rheometer.csv"
     done = subprocess.run([str(build / "dem_sampler" / "dem_sampler"), "rheometer", str(folder / "cell.json"),
@@ -127,9 +126,11 @@ def main():
         parser.error(f"--restitution: expected a coefficient in (0, 1], got {args.restitution:g}")
     if not 0 < args.tangential_ratio <= 1:
         parser.error(f"--tangential-ratio: expected k_t/k_n in (0, 1], got {args.tangential_ratio:g}")
+    material = {**moduli.MATERIAL, "restitution": args.restitution,
+                "k_t": args.tangential_ratio * moduli.MATERIAL["k_n"]}
     rows = [r for seed in args.seeds
             for r in run_seed(args.build.resolve(), args.out / f"seed{seed}", seed, args.spheres, args.inertial_numbers,
-                              args.strain, args.pressure, args.restitution, args.tangential_ratio)]
+                              args.strain, args.pressure, material)]
     means = summary(rows)
     law = fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])
     with (args.out / "mu_of_i.csv").open("w", newline="") as f:

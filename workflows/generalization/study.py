@@ -65,8 +65,7 @@ SEED_OFFSET = 1000  # the noise floor's template: the cell's packing seed plus t
 def draw_factors(draws):
     """The runs that draw surrogate_budget again, each with its gravity over the scene's: 1 + 1e-12,
     1 − 1e-12, 1 + 2e-12, … ."""
-    return {f"surrogate_budget_draw_{k}": 1 + (1 if k % 2 else -1) * ((k + 1) // 2) * scenes.GRAVITY_PERTURBATION
-            for k in range(1, draws)}
+    return {f"surrogate_budget_draw_{k}": factor for k, factor in enumerate(scenes.draw_gravity_factors(draws), start=1)}
 
 
 def cell_file(args, bond, seed_offset):

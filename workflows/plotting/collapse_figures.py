@@ -10,8 +10,6 @@ import numpy as np
 
 from . import figures, spreading, tables, tracked_cells, vtu
 
-SOURCES = ["analytic", "live", "hit", "miss"]  # StressSource codes 0–3 of the VTU field `source`
-
 
 def snapshot_figures(snapshots, out, panels):
     shown = vtu.pick_times(snapshots, panels)
@@ -25,7 +23,7 @@ def snapshot_figures(snapshots, out, panels):
     if "source" in shown[0].fields:
         made["source.png"] = [("stress source", lambda s: s.fields["source"],
                                colors.ListedColormap(["grey", "tab:red", "tab:green", "tab:orange"]),
-                               colors.BoundaryNorm(np.arange(-0.5, 4.5), 4), SOURCES)]
+                               colors.BoundaryNorm(np.arange(-0.5, 4.5), 4), vtu.STRESS_SOURCES)]
     for name, rows in made.items():
         figures.snapshot_grid(shown, rows, out / name)
     return list(made)

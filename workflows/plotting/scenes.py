@@ -13,6 +13,12 @@ from pathlib import Path
 GRAVITY_PERTURBATION = 1e-12
 
 
+def draw_gravity_factors(draws):
+    """The gravity factors of a run's further draws, after the first on the scene's own gravity:
+    1 + 1e-12, 1 − 1e-12, 1 + 2e-12, … (`draws` − 1 of them)."""
+    return [1 + (1 if k % 2 else -1) * ((k + 1) // 2) * GRAVITY_PERTURBATION for k in range(1, draws)]
+
+
 # The material keys of the library laws, as the studies run them. `lookup` is the total-strain key of
 # `cache` and `hybrid`; `hybrid` adds its live fallback; `surrogate` is the state key.
 LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}

@@ -12,6 +12,8 @@ import numpy as np
 
 _TYPES = {"Float64": "<f8", "Float32": "<f4", "Int64": "<i8", "Int32": "<i4", "UInt8": "u1"}
 _APPENDED = b'<AppendedData encoding="raw">'
+# The names of the codes 0–3 of the field `source` (mpm_solver/core/coupling_status.hpp: StressSource).
+STRESS_SOURCES = ["analytic", "live", "hit", "miss"]
 
 
 @dataclass
