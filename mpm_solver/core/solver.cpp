@@ -141,14 +141,16 @@ void Solver::step(double dt) {
   locate_points();
   timed(phase_times_.particles_to_grid, [&] { particles_to_grid(grid_, points_, stencils_, buffers_); });
   timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
+  const std::optional<HomogeneousDrive> drive =
+      settings_.homogeneous_drive ? std::optional(servoed_drive(*settings_.homogeneous_drive, points_, dt, drive_integral_)) : std::nullopt;
   timed(phase_times_.grid, [&] {
     update_grid(grid_, gravity_.at(time_));
-    if (settings_.homogeneous_drive) impose_homogeneous_velocity(grid_, *settings_.homogeneous_drive);
+    if (drive) impose_homogeneous_velocity(grid_, *drive);
   });
   timed(phase_times_.grid_to_particles, [&] {
     grid_to_particles(grid_, points_, stencils_, dt, settings_.transfer);
     remap_velocities(grid_, points_, stencils_, buffers_);
-    if (settings_.homogeneous_drive) impose_homogeneous_velocity(grid_, *settings_.homogeneous_drive);
+    if (drive) impose_homogeneous_velocity(grid_, *drive);
   });
   timed(phase_times_.stress, [&] { update_stresses(dt); });
   time_ += dt;

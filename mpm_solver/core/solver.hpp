@@ -109,6 +109,9 @@ class Solver {
   ConstitutiveLaw& law(std::size_t index) { return *laws_[index]; }
   Obstacle& obstacle(std::size_t index) { return obstacles_[index]; }
   void restore(double time, long steps, std::vector<MaterialPoint> points);
+  // The integral of the homogeneous drive's normal-stress servo [1/s] (homogeneous_drive.hpp).
+  double drive_integral() const { return drive_integral_; }
+  void restore_drive_integral(double integral) { drive_integral_ = integral; }
 
  private:
   void sort_points_by_cell();
@@ -129,6 +132,7 @@ class Solver {
   double time_ = 0;
   long steps_ = 0;
   long skipped_updates_ = 0, point_updates_ = 0;
+  double drive_integral_ = 0;
   mutable std::vector<double> point_update_seconds_;  // time_step_limits() adds to it
   std::vector<double> point_update_seconds_at_rebalance_;
   PhaseTimes phase_times_;

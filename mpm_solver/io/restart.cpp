@@ -79,6 +79,7 @@ void write_contents(const h5::Object& root, const Solver& solver, const RunRecor
   h5::write_attribute(root, "kinetic_energy_peak", run.kinetic_energy_peak);
   h5::write_attribute(root, "kinetic_energy_peak_since", run.kinetic_energy_peak_since);
   h5::write_attribute(root, "steps", static_cast<std::int64_t>(solver.steps()));
+  h5::write_attribute(root, "drive_integral", solver.drive_integral());
   std::vector<double> rows;
   for (const MaterialPoint& mp : solver.points()) append_row(rows, mp);
   h5::write_array(root, "points", rows, kColumns);
@@ -143,6 +144,10 @@ RunRecord read_restart(const std::filesystem::path& file, Solver& solver) {
     solver.restore(h5::read_double_attribute(root, "time"), h5::read_int_attribute(root, "steps"), std::move(points));
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(file.string() + ": " + e.what());
+  }
+  try {
+    solver.restore_drive_integral(h5::read_double_attribute(root, "drive_integral"));
+  } catch (const db::StoreError&) {  // a file of an older build, whose drives held no servo
   }
   RunRecord run;
   try {

@@ -23,14 +23,27 @@ Vec2 vec2(const JsonNode& node) {
   return {node.at(0).number(), node.at(1).number()};
 }
 
-// {"L": [[Lxx, Lxy], [Lyx, Lyy]], "origin": [x, y]}: the whole domain deformed homogeneously.
+// {"L": [[Lxx, Lxy], [Lyx, Lyy]], "origin": [x, y], "normal_stress": {"stress": P, "response_rate": k,
+// "integral_time": T}}:
+// the whole domain deformed homogeneously, with σ_yy optionally held at −P.
 HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
-  node.allow_only({"L", "origin"});
+  node.allow_only({"L", "origin", "normal_stress"});
   const JsonNode rows = node.at("L", "[[Lxx, Lxy], [Lyx, Lyy]]");
   if (rows.array_size("[[Lxx, Lxy], [Lyx, Lyy]]") != 2) rows.fail_expected("[[Lxx, Lxy], [Lyx, Lyy]]");
   HomogeneousDrive drive;
   for (int i = 0; i < 2; ++i) drive.velocity_gradient.row(i) = vec2(rows.at(static_cast<std::size_t>(i))).transpose();
   drive.origin = node.has("origin") ? vec2(node.at("origin", "")) : Vec2::Zero();
+  if (const auto control = node.find("normal_stress")) {
+    control->allow_only({"stress", "response_rate", "integral_time"});
+    NormalStressControl c;
+    c.stress = control->number("stress", Range::positive());
+    c.response_rate = control->number_or("response_rate", c.response_rate, Range::positive());
+    c.integral_time = control->number_or("integral_time", c.integral_time, Range::positive());
+    Mat2 rest = drive.velocity_gradient;
+    rest(1, 1) = 0;
+    if (!(rest.norm() > 0)) rows.fail_expected("a nonzero Lxx, Lxy or Lyx: with normal_stress, Lyy is servoed and bounded by them");
+    drive.normal_stress = c;
+  }
   return drive;
 }
 

@@ -24,7 +24,7 @@ Solver driven_live_point(const dem::DemCell& cell_template, const Mat2& L, LiveD
   Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
   const std::size_t law = solver.add_law(std::make_unique<LiveDemLaw>(cell_template, settings));
   solver.add_point(law, Vec2(0.43, 0.37), 1e-2, 0.05);
-  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
+  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37), std::nullopt});
   return solver;
 }
 

@@ -51,7 +51,7 @@ TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
   for (const app::PathSegment& segment : path.segments) {
     const double dt = path.record_interval;
     const Mat2 L = segment.L.topLeftCorner<2, 2>();
-    solver.set_homogeneous_drive(HomogeneousDrive{L, x0});
+    solver.set_homogeneous_drive(HomogeneousDrive{L, x0, std::nullopt});
     for (int k = 0; k < std::lround(segment.duration / dt); ++k, ++record) {
       solver.step(dt);
       const MaterialPoint& mp = solver.points()[0];  // re-read: the solver re-sorts its points

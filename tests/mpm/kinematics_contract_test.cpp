@@ -32,7 +32,7 @@ Solver one_point(std::unique_ptr<ConstitutiveLaw> law, double skip) {
 }
 
 void drive(Solver& solver, const Mat2& L, int steps) {
-  solver.set_homogeneous_drive(HomogeneousDrive{L, kCentre});
+  solver.set_homogeneous_drive(HomogeneousDrive{L, kCentre, std::nullopt});
   for (int k = 0; k < steps; ++k) solver.step(kDt);
 }
 

@@ -86,7 +86,7 @@ Solver flattened_live_point(const dem::DemCell& cell, std::size_t max_spheres = 
   settings.regenerate_beyond_cap = regenerate;
   solver.add_law(std::make_unique<LiveDemLaw>(cell, settings));
   solver.add_point(0, Vec2(0.43, 0.37), 1e-2, 0.05);
-  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37)});
+  solver.set_homogeneous_drive(HomogeneousDrive{L, Vec2(0.43, 0.37), std::nullopt});
   return solver;
 }
 

@@ -53,8 +53,8 @@ LOADS = {
 PREPARATIONS = {"dense": 0.0, "loose": 0.5}  # friction while compressing
 
 
-def cell_spec(seed, pressure, spheres, preparation, material=MATERIAL):
-    return {"material": material, "preparation": {"spheres": spheres, "diameter": DIAMETER, "pressure": pressure,
+def cell_spec(seed, pressure, spheres, preparation, material=MATERIAL, diameter=DIAMETER):
+    return {"material": material, "preparation": {"spheres": spheres, "diameter": diameter, "pressure": pressure,
                                                   "seed": seed, "compression_friction": PREPARATIONS[preparation]}}
 
 

@@ -4,15 +4,15 @@
 
 For each packing seed the cell of moduli.py (dense, μ_p = 0.5, no bonds) is prepared at P and sheared
 by `dem_sampler rheometer` at every inertial number, from the prepared state each time, to a strain
-`--strain` (steady from γ = 1). `--pressure`, `--restitution` and `--tangential-ratio` change P,
-the contacts' restitution and their k_t/k_n (the cell's stiffness number κ = k_n/(P d) scales as
+`--strain` (steady from γ = 1). `--pressure`, `--restitution`, `--tangential-ratio` and `--diameter-spread` change P,
+the contacts' restitution, their k_t/k_n and the spread of diameters about the mean (the cell's stiffness number κ = k_n/(P d) scales as
 1/P), to tell the causes of a μ_s apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
 seed means (least squares, weighted by the standard error). Jop et al.'s glass beads (μ_s = tan 20.9°,
 μ_2 = tan 32.76°, I_0 = 0.279) are drawn for the shape, not as a target: their grains are not these.
 
   /usr/bin/python3 mu_of_i.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--inertial-numbers 0.003 0.01 0.03 0.1 0.3]
                               [--spheres 125] [--strain 6] [--pressure 1000] [--restitution 0.3]
-                              [--tangential-ratio 0.3]
+                              [--tangential-ratio 0.3] [--diameter-spread S]
 
 Writes OUT/mu_of_i.csv (one row per seed and I), OUT/mu_of_i.md (means, standard deviations over
 seeds and the fit) and OUT/mu_of_i.png.
@@ -56,9 +56,17 @@ def fit(inertial_numbers, mu, error):
     return best[1:]
 
 
-def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, material):
+def diameters(spread):
+    """Diameters uniform within ±spread of the moduli cells' mean diameter (theirs exactly if None)."""
+    if spread is None:
+        return moduli.DIAMETER
+    mean = (moduli.DIAMETER["min"] + moduli.DIAMETER["max"]) / 2
+    return {"min": mean * (1 - spread), "max": mean * (1 + spread)}
+
+
+def run_seed(build, folder, seed, spheres, inertial_numbers, strain, pressure, material, diameter):
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, pressure, spheres, "dense", material)))
+    (folder / "cell.json").write_text(json.dumps(moduli.cell_spec(seed, pressure, spheres, "dense", material, diameter)))
     out = folder / "rheometer.csv"
     done = subprocess.run([str(build / "dem_sampler" / "dem_sampler"), "rheometer", str(folder / "cell.json"),
                            "--inertial-numbers", ",".join(f"{i:g}" for i in inertial_numbers),
@@ -119,6 +127,8 @@ def main():
                         help="the contacts' coefficient of restitution")
     parser.add_argument("--tangential-ratio", type=float, default=moduli.MATERIAL["k_t"] / moduli.MATERIAL["k_n"],
                         help="the contacts' k_t / k_n")
+    parser.add_argument("--diameter-spread", type=float,
+                        help="diameters uniform within ± this fraction of the mean 0.37 mm (default: 0.34–0.40 mm, ±0.081)")
     args = parser.parse_args()
     if not args.pressure > 0:
         parser.error(f"--pressure: expected a positive normal stress [Pa], got {args.pressure:g}")
@@ -126,11 +136,13 @@ def main():
         parser.error(f"--restitution: expected a coefficient in (0, 1], got {args.restitution:g}")
     if not 0 < args.tangential_ratio <= 1:
         parser.error(f"--tangential-ratio: expected k_t/k_n in (0, 1], got {args.tangential_ratio:g}")
+    if args.diameter_spread is not None and not 0 <= args.diameter_spread < 1:
+        parser.error(f"--diameter-spread: expected a fraction in [0, 1), got {args.diameter_spread:g}")
     material = {**moduli.MATERIAL, "restitution": args.restitution,
                 "k_t": args.tangential_ratio * moduli.MATERIAL["k_n"]}
     rows = [r for seed in args.seeds
             for r in run_seed(args.build.resolve(), args.out / f"seed{seed}", seed, args.spheres, args.inertial_numbers,
-                              args.strain, args.pressure, material)]
+                              args.strain, args.pressure, material, diameters(args.diameter_spread))]
     means = summary(rows)
     law = fit([m["I"] for m in means], [m["mu"] for m in means], [m["mu_sd"] for m in means])
     with (args.out / "mu_of_i.csv").open("w", newline="") as f:
@@ -143,7 +155,8 @@ def main():
     lines.append(f"\nFit: μ_s = {law[0]:.3f}, μ_2 = {law[1]:.3f}, I_0 = {law[2]:.3g} "
                  f"(published μ_s for μ_p = 0.5: {PUBLISHED_MU_S[0]}–{PUBLISHED_MU_S[1]})")
     lines.append(f"Cells: {args.spheres} spheres, P = {args.pressure:g} Pa, restitution {args.restitution:g}, "
-                 f"k_t/k_n {args.tangential_ratio:g}")
+                 f"k_t/k_n {args.tangential_ratio:g}, diameters {diameters(args.diameter_spread)['min'] * 1e3:.3g}–"
+                 f"{diameters(args.diameter_spread)['max'] * 1e3:.3g} mm")
     text = "\n".join(lines) + "\n"
     (args.out / "mu_of_i.md").write_text(text)
     plot(rows, means, law, args.out / "mu_of_i.png")
