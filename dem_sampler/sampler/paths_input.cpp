@@ -114,15 +114,15 @@ std::vector<double> number_list(const JsonNode& entry, const char* key, const ch
 }
 
 std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& defaults) {
-  entry.allow_only({"bases", "depths", "base_rate", "psi", "beta", "rates", "probe_strain", "record_interval",
-                    "snapshot_interval", "substepping"});
+  entry.allow_only({"bases", "depths", "base_rate", "base_pressure", "psi", "beta", "rates", "probe_strain",
+                    "record_interval", "snapshot_interval", "substepping"});
   const Defaults d = entry_settings(entry, defaults);
   ProbeSpec p;
   p.record_interval = *d.record_interval;
   p.snapshot_interval = d.snapshot_interval;
   p.substepping = d.substepping;
   constexpr const char* kBases =
-      "a non-empty array of \"compression\", \"shear\", \"extension\" or \"oedometric\"";
+      "a non-empty array of \"compression\", \"shear\", \"extension\", \"oedometric\" or \"held_shear\"";
   const JsonNode bases = entry.at("bases", kBases);
   const std::size_t n = bases.array_size(kBases);
   if (n == 0) bases.fail_expected(kBases);
@@ -131,13 +131,16 @@ std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& default
     try {
       p.bases.push_back(probe_base_from(item.string()));
     } catch (const std::invalid_argument&) {
-      item.fail_expected("\"compression\", \"shear\", \"extension\" or \"oedometric\"");
+      item.fail_expected("\"compression\", \"shear\", \"extension\", \"oedometric\" or \"held_shear\"");
     }
   }
   constexpr double kDegree = std::numbers::pi / 180;
   const double max_psi = kMaxPlaneStrainPsi / kDegree;
   p.depths = number_list(entry, "depths", "a non-empty array of strains > 0", Range::positive());
   p.base_rate = entry.number("base_rate", Range::positive());
+  const bool held = std::find(p.bases.begin(), p.bases.end(), ProbeBase::held_shear) != p.bases.end();
+  if (held) p.base_pressure = entry.number("base_pressure", Range::positive());
+  else if (entry.has("base_pressure")) entry.at("base_pressure", "").fail("base_pressure is read by the held_shear base only");
   p.psi = number_list(entry, "psi", "a non-empty array of angles [°] within ±67.79 (plane strain)",
                       Range::between(-max_psi, max_psi, false, false), kDegree);
   p.beta = number_list(entry, "beta", "a non-empty array of angles [°]", Range::between(-180, 180, false, false),

@@ -23,6 +23,9 @@ void check(const ProbeSpec& s) {
   if (s.bases.empty()) fail("bases: expected a non-empty array");
   if (!all_positive(s.depths)) fail("depths: expected a non-empty array of positive strains");
   if (!(s.base_rate > 0) || !std::isfinite(s.base_rate)) fail("base_rate: expected a positive rate [1/s]");
+  for (ProbeBase base : s.bases)
+    if (base == ProbeBase::held_shear && (!(s.base_pressure > 0) || !std::isfinite(s.base_pressure)))
+      fail("base_pressure: expected a positive mean pressure [Pa] for the held_shear base");
   if (s.psi.empty()) fail("psi: expected a non-empty array of angles");
   for (double psi : s.psi)
     if (!(std::abs(psi) <= kMaxPlaneStrainPsi + 1e-12))
@@ -40,7 +43,8 @@ dem::Mat3 base_gradient(ProbeBase base, double rate) {
   switch (base) {
     case ProbeBase::compression: L(0, 0) = L(1, 1) = -kRootHalf * rate; break;
     case ProbeBase::extension: L(0, 0) = L(1, 1) = kRootHalf * rate; break;
-    case ProbeBase::shear: L(0, 1) = std::numbers::sqrt2 * rate; break;
+    case ProbeBase::shear:
+    case ProbeBase::held_shear: L(0, 1) = std::numbers::sqrt2 * rate; break;
     case ProbeBase::oedometric: L(1, 1) = -rate; break;
   }
   return L;
@@ -49,8 +53,9 @@ dem::Mat3 base_gradient(ProbeBase base, double rate) {
 // The least compressive in-plane principal stress axis the base leaves: simple shear's stretching
 // axis, x for oedometric compression along y; none for the in-plane isotropic bases (then every β is
 // the same probe, see the header).
-double base_axis(ProbeBase base) { return base == ProbeBase::shear ? std::numbers::pi / 4 : 0.0; }
-bool has_stress_axes(ProbeBase base) { return base == ProbeBase::shear || base == ProbeBase::oedometric; }
+bool is_shear(ProbeBase base) { return base == ProbeBase::shear || base == ProbeBase::held_shear; }
+double base_axis(ProbeBase base) { return is_shear(base) ? std::numbers::pi / 4 : 0.0; }
+bool has_stress_axes(ProbeBase base) { return is_shear(base) || base == ProbeBase::oedometric; }
 
 }  // namespace
 
@@ -78,6 +83,7 @@ ProbeBase probe_base_from(const std::string& name) {
   if (name == "shear") return ProbeBase::shear;
   if (name == "extension") return ProbeBase::extension;
   if (name == "oedometric") return ProbeBase::oedometric;
+  if (name == "held_shear") return ProbeBase::held_shear;
   throw std::invalid_argument("unknown probe base \"" + name + "\"");
 }
 
@@ -92,7 +98,8 @@ std::vector<PathPlan> probe_paths(const ProbeSpec& spec) {
         plan.path.record_interval = spec.record_interval;
         plan.path.substepping = spec.substepping;
         plan.snapshot_interval = spec.snapshot_interval;
-        plan.path.segments.push_back({base_gradient(base, spec.base_rate), depth / spec.base_rate});
+        plan.path.segments.push_back({base_gradient(base, spec.base_rate), depth / spec.base_rate,
+                                      base == ProbeBase::held_shear ? spec.base_pressure : 0.0});
         const double duration = spec.probe_strain / rate;
         for (double psi : spec.psi) {
           for (double beta : betas) {

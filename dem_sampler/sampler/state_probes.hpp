@@ -7,8 +7,11 @@
 //
 // One path per (base, depth, probe rate):
 // 1. the base segment: in-plane isotropic compression D = −r I₂/√2, simple shear L = √2 r [[0,1],[0,0]]
-//    (|D| = r), in-plane isotropic extension D = +r I₂/√2, or oedometric compression along y
-//    D_yy = −r, at |D| = base_rate for depth/base_rate;
+//    (|D| = r), in-plane isotropic extension D = +r I₂/√2, oedometric compression along y
+//    D_yy = −r, or simple shear under the held mean pressure base_pressure (mixed control,
+//    path_input.hpp: the steady flow of a point under a free surface, which reaches its critical
+//    state, where simple shear at constant volume builds pressure without end), at |D| = base_rate
+//    for depth/base_rate;
 // 2. for each probe direction, `probe_strain` of loading at |D| = rate, then the same strain back
 //    (−D, the unloading response), in the order ψ outer, β inner.
 // A probe direction is D = a I₂ + b R(θ) diag(1, −1) R(θ)ᵀ with plane strain (D_zz = 0), scaled to
@@ -29,12 +32,13 @@
 
 namespace grainbank::sampler {
 
-enum class ProbeBase { compression, shear, extension, oedometric };
+enum class ProbeBase { compression, shear, extension, oedometric, held_shear };
 
 struct ProbeSpec {
   std::vector<ProbeBase> bases;
   std::vector<double> depths;     // strain along the base, Σ |D| dt (> 0)
   double base_rate = 0;           // |D| of the base [1/s]
+  double base_pressure = 0;       // the held_shear base's mean pressure [Pa], > 0 if it is used
   std::vector<double> psi;        // [rad], |ψ| ≤ kMaxPlaneStrainPsi
   std::vector<double> beta;       // [rad]
   std::vector<double> rates;      // |D| of the probes [1/s]
@@ -53,6 +57,7 @@ dem::Mat3 probe_direction(double psi, double axis_angle, double rate);
 // Throws std::invalid_argument naming the first bad field.
 std::vector<PathPlan> probe_paths(const ProbeSpec& spec);
 
-ProbeBase probe_base_from(const std::string& name);  // "compression" | "shear" | "extension" | "oedometric"
+// "compression" | "shear" | "extension" | "oedometric" | "held_shear"
+ProbeBase probe_base_from(const std::string& name);
 
 }  // namespace grainbank::sampler

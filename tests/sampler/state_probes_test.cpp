@@ -41,9 +41,11 @@ double axis_difference(double a, double b) {
 
 ProbeSpec spec() {
   ProbeSpec s;
-  s.bases = {ProbeBase::compression, ProbeBase::shear, ProbeBase::extension, ProbeBase::oedometric};
+  s.bases = {ProbeBase::compression, ProbeBase::shear, ProbeBase::extension, ProbeBase::oedometric,
+             ProbeBase::held_shear};
   s.depths = {0.01, 0.03};
   s.base_rate = 5;
+  s.base_pressure = 400;
   s.psi = {-40 * kDegree, 0.0, 30 * kDegree, kMaxPlaneStrainPsi};
   s.beta = {0.0, 30 * kDegree, 90 * kDegree};
   s.rates = {1, 4};
@@ -55,10 +57,11 @@ ProbeSpec spec() {
 TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections) {
   const ProbeSpec s = spec();
   const std::vector<PathPlan> plans = probe_paths(s);
-  ASSERT_EQ(plans.size(), 4u * 2u * 2u);
+  ASSERT_EQ(plans.size(), 5u * 2u * 2u);
   std::size_t k = 0;
   for (ProbeBase base : s.bases) {
-    const bool shear = base == ProbeBase::shear, oedometric = base == ProbeBase::oedometric;
+    const bool held = base == ProbeBase::held_shear;
+    const bool shear = base == ProbeBase::shear || held, oedometric = base == ProbeBase::oedometric;
     const bool axes = shear || oedometric;  // the base leaves in-plane stress axes, so every β is a probe
     const std::size_t directions = s.psi.size() * (axes ? s.beta.size() : 1);
     for (double depth : s.depths) {
@@ -78,6 +81,9 @@ TEST(StateProbes, ExpandIntoBaseSegmentsAndPairsOfProbesOfTheRequestedDirections
         if (shear) {
           EXPECT_EQ(segments[0].L(1, 0), 0) << "simple shear, with its spin";
         }
+        // Only the held shear servoes its pressure; the probes are imposed as they are.
+        EXPECT_EQ(segments[0].pressure, held ? s.base_pressure : 0.0);
+        for (std::size_t j = 1; j < segments.size(); ++j) EXPECT_EQ(segments[j].pressure, 0.0);
         std::size_t d = 0;
         for (double psi : s.psi) {
           for (std::size_t b = 0; b < (axes ? s.beta.size() : 1); ++b, ++d) {
@@ -123,9 +129,18 @@ TEST(StateProbes, AreReadFromPathsFilesWithTheirErrorsNamed) {
   EXPECT_NE(steep.find("bad.json: /probes/0/psi/0"), std::string::npos) << steep;
   EXPECT_NE(steep.find("67.79"), std::string::npos) << steep;
   const std::string base = error_of(R"({"bases": ["twist"], "psi": [0], )" + good + "}");
-  EXPECT_NE(base.find("/probes/0/bases/0: expected \"compression\", \"shear\", \"extension\" or \"oedometric\""),
+  EXPECT_NE(base.find("/probes/0/bases/0: expected \"compression\", \"shear\", \"extension\", \"oedometric\" or "
+                      "\"held_shear\""),
             std::string::npos)
       << base;
+  const std::string unheld = error_of(R"({"bases": ["held_shear"], "psi": [0], )" + good + "}");
+  EXPECT_NE(unheld.find("/probes/0/base_pressure: required"), std::string::npos) << unheld;
+  const std::string stray = error_of(R"({"bases": ["shear"], "psi": [0], "base_pressure": 300, )" + good + "}");
+  EXPECT_NE(stray.find("/probes/0/base_pressure: base_pressure is read by the held_shear base only"), std::string::npos)
+      << stray;
+  const auto held = load_paths_file(dir.write("held.json", R"({"record_interval": 2e-4, "probes": [{"bases": ["held_shear"],
+    "base_pressure": 300, "psi": [0], )" + good + "}]}"));
+  EXPECT_EQ(held[0].path.segments[0].pressure, 300);
   const std::string unknown = error_of(R"({"bases": ["shear"], "psi": [0], "angle": 3, )" + good + "}");
   EXPECT_NE(unknown.find("/probes/0/angle: unknown key"), std::string::npos) << unknown;
 }

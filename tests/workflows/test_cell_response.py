@@ -32,7 +32,7 @@ class CellResponseTest(WorkflowTest):
     def test_mu_of_i(self):
         run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out, "--build", BUILD,
              "--seeds", "1", "--inertial-numbers", "0.01", "0.2", "--spheres", "64", "--strain", "3",
-             "--pressure", "2000", "--restitution", "0.5", "--tangential-ratio", "0.5"])
+             "--pressure", "2000", "--restitution", "0.5", "--tangential-ratio", "0.5", "--diameter-spread", "0.2"])
         with (self.out / "mu_of_i.csv").open() as f:
             slow, fast = [{k: float(v) for k, v in row.items()} for row in csv.DictReader(f)]
         for r in (slow, fast):
@@ -40,11 +40,15 @@ class CellResponseTest(WorkflowTest):
         cell = json.loads((self.out / "seed1" / "cell.json").read_text())
         self.assertEqual((cell["material"]["restitution"], cell["preparation"]["pressure"]), (0.5, 2000.0))
         self.assertEqual(cell["material"]["k_t"], 0.5 * cell["material"]["k_n"])
+        diameter = cell["preparation"]["diameter"]
+        self.assertAlmostEqual(diameter["max"] / diameter["min"], 1.2 / 0.8)
+        self.assertAlmostEqual(diameter["max"] + diameter["min"], 0.74e-3)  # the mean diameter kept
         self.assertGreater(fast["mu"], slow["mu"])
         self.assertLess(fast["phi"], slow["phi"])
         self.assertIn("Fit: μ_s =", (self.out / "mu_of_i.md").read_text())
         self.assert_png(self.out / "mu_of_i.png")
-        for option, value in (("--pressure", "-1"), ("--restitution", "1.5"), ("--tangential-ratio", "0")):
+        for option, value in (("--pressure", "-1"), ("--restitution", "1.5"), ("--tangential-ratio", "0"),
+                              ("--diameter-spread", "1")):
             refused = subprocess.run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out / "bad",
                                       option, value], capture_output=True, text=True)
             self.assertNotEqual(refused.returncode, 0)

@@ -68,6 +68,20 @@ class DemoTest(WorkflowTest):
         oedometric = elements["loadings"][0]
         for stress in ("final_run_Pa", "final_live_Pa", "final_floor_cell_Pa"):
             self.assertLess(oedometric[stress][1], -200)
+        # Shear under a held normal stress: the servo holds the live cells' mean σ_yy near −P (the
+        # surrogate's pressure answers too weakly to the servo's dilation for that: README), and each
+        # law flows with a positive friction; the law's row has its error over the floor's.
+        run(["/usr/bin/python3", WORKFLOWS / "audit" / "held_shear.py", self.out / "held", "--library", self.out / "lib",
+             "--floor-cell", self.out / "floor_cell.json", "--pressures", "500", "--rates", "3", "--strain", "0.3",
+             "--build", BUILD])
+        held = json.loads((self.out / "held" / "held_shear.json").read_text())["runs"]
+        self.assertEqual([row["run"] for row in held], ["reference", "floor", "surrogate"])
+        for row in held[:2]:
+            self.assertLess(abs(row["normal_stress_Pa"] - 500), 100, row)
+            self.assertEqual(row["live_share"], 1)
+        for row in held:
+            self.assertTrue(0 < row["friction"] < 5, row)
+        self.assertIsNotNone(held[2]["friction_error_over_floor"])
 
         second = self.run_demo()
         self.assertIn("template 1 (already in the library)", second)
