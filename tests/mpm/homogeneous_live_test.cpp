@@ -9,6 +9,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
+#include <utility>
 
 #include "dem_sampler/cell/matrix_functions.hpp"
 #include "dem_sampler/cell/preparation.hpp"
@@ -87,17 +89,19 @@ TEST(HomogeneousLive, SinglePointReproducesDemSamplerRunAlongTheSamePath) {
 namespace grainbank::mpm {
 namespace {
 
+// An elastic block under the scene key integration.homogeneous_drive = `drive`.
+std::string scene(const std::string& drive) {
+  return R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
+    "time": {"end": 0.01, "output_interval": 0.01},
+    "integration": {"transfer": "pic", "homogeneous_drive": )" + drive + R"(},
+    "materials": [{"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
+    "regions": [{"material": "a", "rectangle": {"min": [0.3, 0.3], "max": [0.6, 0.5]}, "points_per_cell": 2}]})";
+}
+
 TEST(HomogeneousLive, SceneDrivesEveryPointWithItsVelocityGradient) {
   // The scene key integration.homogeneous_drive reaches the solver: every point of a block follows
   // F = exp(Δt L)^n exactly, and a malformed L is refused naming its JSON path.
   const TemporaryDirectory folder("homogeneous-scene");
-  auto scene = [](const std::string& drive) {
-    return R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
-      "time": {"end": 0.01, "output_interval": 0.01},
-      "integration": {"transfer": "pic", "homogeneous_drive": )" + drive + R"(},
-      "materials": [{"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
-      "regions": [{"material": "a", "rectangle": {"min": [0.3, 0.3], "max": [0.6, 0.5]}, "points_per_cell": 2}]})";
-  };
   io::Scene s = io::load_scene(folder.write("scene.json", scene(R"({"L": [[0.5, 2], [0, -0.5]], "origin": [0.45, 0.4]})")));
   Mat2 L;
   L << 0.5, 2, 0, -0.5;
@@ -117,6 +121,30 @@ TEST(HomogeneousLive, SceneDrivesEveryPointWithItsVelocityGradient) {
     FAIL() << "a one-row L must be refused";
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find("bad.json: /integration/homogeneous_drive/L"), std::string::npos) << e.what();
+  }
+}
+
+TEST(HomogeneousLive, TheNormalStressKeyIsReadAndBadValuesAreRefusedByName) {
+  const TemporaryDirectory folder("normal-stress-scene");
+  const io::Scene s = io::load_scene(folder.write(
+      "scene.json", scene(R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": 500, "response_rate": 3}})")));
+  const auto& control = s.solver->settings().homogeneous_drive->normal_stress;
+  ASSERT_TRUE(control.has_value());
+  EXPECT_EQ(control->stress, 500);
+  EXPECT_EQ(control->response_rate, 3);
+  EXPECT_EQ(control->integral_time, NormalStressControl{}.integral_time);
+
+  const std::pair<const char*, const char*> refused[] = {
+      {R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": -500}})", "/integration/homogeneous_drive/normal_stress/stress"},
+      {R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": 500, "rate": 1}})", "/integration/homogeneous_drive/normal_stress"},
+      {R"({"L": [[0, 0], [0, -1]], "normal_stress": {"stress": 500}})", "/integration/homogeneous_drive/L"}};
+  for (const auto& [drive, where] : refused) {
+    try {
+      io::load_scene(folder.write("bad.json", scene(drive)));
+      ADD_FAILURE() << "refused: " << drive;
+    } catch (const std::exception& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("bad.json: ") + where), std::string::npos) << e.what();
+    }
   }
 }
 

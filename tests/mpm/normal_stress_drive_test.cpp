@@ -1,14 +1,12 @@
 // The homogeneous drive with σ_yy held (HomogeneousDrive::normal_stress): a law sheared under a
 // constant normal stress, as in a rheometer, against the analytic steady state of a frictional cone.
+// (Its scene key: homogeneous_live_test.cpp.)
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
-#include <string>
 
-#include "common/temporary_directory.hpp"
 #include "mpm_solver/core/solver.hpp"
-#include "mpm_solver/io/scene_input.hpp"
 #include "mpm_solver/laws/drucker_prager_law.hpp"
 
 namespace grainbank::mpm {
@@ -42,36 +40,6 @@ TEST(NormalStressDrive, AFrictionalConeShearsAtItsFrictionUnderTheHeldNormalStre
   EXPECT_NEAR(s.zz, -pressure, 5e-3 * pressure);
   EXPECT_NEAR(std::abs(s.in_plane(0, 1)) / pressure, std::sin(phi), 5e-3);
   EXPECT_NEAR(solver.points()[0].volume / volume, 1.0, 1e-4) << "a cone without dilatancy keeps its volume in flow";
-}
-
-TEST(NormalStressDrive, TheSceneKeyIsReadAndBadValuesAreRefusedByName) {
-  const TemporaryDirectory folder("normal-stress-scene");
-  auto scene = [](const std::string& drive) {
-    return R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 10]},
-      "time": {"end": 0.01, "output_interval": 0.01},
-      "integration": {"transfer": "pic", "homogeneous_drive": )" + drive + R"(},
-      "materials": [{"name": "a", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
-      "regions": [{"material": "a", "rectangle": {"min": [0.3, 0.3], "max": [0.6, 0.5]}, "points_per_cell": 2}]})";
-  };
-  const io::Scene s = io::load_scene(folder.write(
-      "scene.json", scene(R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": 500, "response_rate": 3}})")));
-  const auto& control = s.solver->settings().homogeneous_drive->normal_stress;
-  ASSERT_TRUE(control.has_value());
-  EXPECT_EQ(control->stress, 500);
-  EXPECT_EQ(control->response_rate, 3);
-
-  const std::pair<const char*, const char*> refused[] = {
-      {R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": -500}})", "/integration/homogeneous_drive/normal_stress/stress"},
-      {R"({"L": [[0, 2], [0, 0]], "normal_stress": {"stress": 500, "rate": 1}})", "/integration/homogeneous_drive/normal_stress"},
-      {R"({"L": [[0, 0], [0, -1]], "normal_stress": {"stress": 500}})", "/integration/homogeneous_drive/L"}};
-  for (const auto& [drive, where] : refused) {
-    try {
-      io::load_scene(folder.write("bad.json", scene(drive)));
-      ADD_FAILURE() << "refused: " << drive;
-    } catch (const std::exception& e) {
-      EXPECT_NE(std::string(e.what()).find(std::string("bad.json: ") + where), std::string::npos) << e.what();
-    }
-  }
 }
 
 }  // namespace

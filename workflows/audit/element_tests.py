@@ -98,14 +98,19 @@ def element_test(args, loading, mpm_solver):
             "final_run_Pa": stresses["run"], "final_live_Pa": stresses["live"], "final_floor_cell_Pa": stresses["other"]}
 
 
-def main():
-    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def add_law_arguments(parser):
+    """The output folder, the library and its floor cell, and the law under test with its settings."""
     parser.add_argument("out", type=Path)
     parser.add_argument("--library", type=Path, required=True)
     parser.add_argument("--floor-cell", type=Path, required=True, help="the template's cell.json with another seed")
     parser.add_argument("--template", type=int, default=1)
     parser.add_argument("--law", default="surrogate")
     parser.add_argument("--material", type=json.loads, default={}, help="JSON merged into the law's material block")
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_law_arguments(parser)
     parser.add_argument("--loadings", nargs="+", choices=LOADINGS, default=LOADINGS)
     parser.add_argument("--rate", type=float, default=0.1, help="|D| [1/s]")
     parser.add_argument("--strain", type=float, default=0.002)

@@ -89,12 +89,7 @@ def run(mpm_solver, folder, scene_dict):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    parser.add_argument("out", type=Path)
-    parser.add_argument("--library", type=Path, required=True)
-    parser.add_argument("--floor-cell", type=Path, required=True, help="the template's cell.json with another seed")
-    parser.add_argument("--template", type=int, default=1)
-    parser.add_argument("--law", default="surrogate")
-    parser.add_argument("--material", type=json.loads, default={}, help="JSON merged into the law's material block")
+    element_tests.add_law_arguments(parser)
     parser.add_argument("--pressures", type=float, nargs="+", default=[300.0, 1000.0], help="P [Pa]")
     parser.add_argument("--rates", type=float, nargs="+", default=[1.0, 3.0], help="γ̇ [1/s]")
     parser.add_argument("--strain", type=float, default=1.0)
