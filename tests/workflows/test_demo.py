@@ -82,6 +82,7 @@ class DemoTest(WorkflowTest):
         for row in held:
             self.assertTrue(0 < row["friction"] < 5, row)
         self.assertIsNotNone(held[2]["friction_error_over_floor"])
+        self.assert_png(self.out / "held" / "held_shear.png")
 
         second = self.run_demo()
         self.assertIn("template 1 (already in the library)", second)

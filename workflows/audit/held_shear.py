@@ -15,8 +15,8 @@ Per run, over the second half of the strain (from the snapshots, one per 0.02 of
 μ = mean |σ_xy| / mean(−σ_yy), the mean −σ_yy (how well the servo held P), the normal stresses
 σ_xx/σ_yy and σ_zz/σ_yy, the volumetric strain −ln(ρ/ρ0) at the end (dilation positive), the damage at
 the end, the share of live point-steps and the CPU time. Per condition, the law's friction error
-against the reference over the floor's. Writes OUT/held_shear.md and OUT/held_shear.json; the runs stay
-in OUT/runs/.
+against the reference over the floor's. Writes OUT/held_shear.md, OUT/held_shear.json and
+OUT/held_shear.png (friction and dilation against strain, per condition); the runs stay in OUT/runs/.
 """
 import argparse
 import json
@@ -29,6 +29,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 from plotting import environment, tables, vtu  # noqa: E402  (after the path set-up)
+from plotting.figures import plt, DPI  # noqa: E402
 
 import element_tests  # noqa: E402  (the demo material's settings, as the element tests take them)
 
@@ -76,6 +77,38 @@ def steady_flow(run_folder):
             "live_share": (1.0 if law["law"] == "live" else law["live_point_steps"] / summary["coupling"]["point_steps"])}
 
 
+def history(run_folder):
+    """Shear strain, friction |σ_xy|/(−σ_yy) and dilation −ln(ρ/ρ0) at every snapshot."""
+    snapshots = vtu.read_run(run_folder)
+    stress = np.array([s.fields["stress"][0] for s in snapshots])
+    density = np.array([s.fields["density"][0] for s in snapshots])
+    strain = np.arange(len(snapshots)) * SNAPSHOT_STRAIN
+    with np.errstate(divide="ignore", invalid="ignore"):
+        friction = np.abs(stress[:, 1]) / -stress[:, 4]
+    return strain, friction, np.log(density[0] / density)
+
+
+def plot(folders, out):
+    """folders: {(P, rate): {run name: run folder}}, one column of panels per condition."""
+    fig, axes = plt.subplots(2, len(folders), figsize=(3.2 * len(folders), 5.2), squeeze=False, sharex=True)
+    for column, ((pressure, rate), runs) in enumerate(folders.items()):
+        for name, folder in runs.items():
+            strain, friction, dilation = history(folder)
+            axes[0][column].plot(strain[1:], friction[1:], label=name)
+            axes[1][column].plot(strain, dilation, label=name)
+        axes[0][column].set_title(f"P = {pressure:g} Pa, γ̇ = {rate:g} /s", fontsize=9)
+        axes[0][column].set_ylim(0, 1.2)
+        axes[1][column].set_xlabel("shear strain")
+    axes[0][0].set_ylabel("|σ_xy| / (−σ_yy)")
+    axes[1][0].set_ylabel("dilation −ln(ρ/ρ₀)")
+    axes[0][0].legend(fontsize=7)
+    for ax in axes.flat:
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=DPI)
+    plt.close(fig)
+
+
 def run(mpm_solver, folder, scene_dict):
     folder.mkdir(parents=True, exist_ok=True)
     (folder / "scene.json").write_text(json.dumps(scene_dict, indent=2) + "\n")
@@ -98,13 +131,14 @@ def main():
     if not (all(p > 0 for p in args.pressures) and all(r > 0 for r in args.rates) and args.strain > 0):
         parser.error("--pressures, --rates and --strain: expected positive numbers")
     mpm_solver = args.build.resolve() / "mpm_solver" / "mpm_solver"
-    rows = []
+    rows, folders = [], {}
     for pressure in args.pressures:
         for rate in args.rates:
             results = {}
             for who in ("reference", "floor", "law"):
                 folder = args.out / "runs" / f"P{pressure:g}_rate{rate:g}_{who}"
                 results[who] = run(mpm_solver, folder, scene(material(args, who), pressure, rate, args.strain))
+                folders.setdefault((pressure, rate), {})[args.law if who == "law" else who] = folder / "run"
                 rows.append({"P_Pa": pressure, "rate": rate, "run": args.law if who == "law" else who,
                              **{k: round(v, 4) for k, v in results[who].items()}, "friction_error_over_floor": None})
             floor = abs(results["floor"]["friction"] - results["reference"]["friction"])
@@ -116,6 +150,7 @@ def main():
          "material": element_tests.material_settings(args), "floor_cell": str(args.floor_cell.resolve()),
          "strain": args.strain, "runs": rows}, indent=2) + "\n")
     tables.write_markdown(args.out / "held_shear.md", rows)
+    plot(folders, args.out / "held_shear.png")
     print((args.out / "held_shear.md").read_text(), end="")
 
 
