@@ -1,6 +1,9 @@
 #include "database/surrogate/reindex.hpp"
 
+#include <optional>
 #include <stdexcept>
+
+#include <nlohmann/json.hpp>
 
 #include "database/store/error.hpp"
 #include "database/store/library.hpp"
@@ -11,21 +14,61 @@ PointState point_state(const db::Record& record) {
   return {db::from_stress6(record.stress), record.solid_fraction, record.coordination, record.damage};
 }
 
+std::vector<HeldSegment> held_segments(const std::string& spec) {
+  std::vector<HeldSegment> held;
+  const nlohmann::json document = nlohmann::json::parse(spec, nullptr, false);
+  if (document.is_discarded() || !document.contains("segments")) return held;
+  double begin = 0;
+  for (const nlohmann::json& segment : document["segments"]) {
+    const double end = begin + segment.value("duration", 0.0);
+    if (segment.value("pressure", 0.0) > 0) held.push_back({begin, end});
+    begin = end;
+  }
+  return held;
+}
+
+namespace {
+
+// The held segment that interval k → k+1 of `records` lies in, or none. Record times are sums of
+// time steps, so a segment's last record may lie past its end by rounding.
+std::optional<std::size_t> held_segment_of(const std::vector<db::Record>& records, std::size_t k,
+                                           const std::vector<HeldSegment>& held) {
+  constexpr double kRounding = 1e-9;  // [s]
+  for (std::size_t s = 0; s < held.size(); ++s)
+    if (records[k].time >= held[s].begin - kRounding && records[k + 1].time <= held[s].end + kRounding) return s;
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
-                                 const FeatureConstants& constants, std::size_t span) {
+                                 const FeatureConstants& constants, std::size_t span,
+                                 const std::vector<HeldSegment>& held) {
   if (span < 1) throw std::invalid_argument("sample span: expected at least one interval");
   std::vector<Sample> samples;
   for (std::size_t k = 0; k + 1 < records.size(); ++k) {
     const db::Record& before = records[k];
-    // Record k+1 holds the L of interval k; the sample reaches on while the next intervals share it.
+    // Record k+1 holds the L of interval k; the sample reaches on while the next intervals share it,
+    // or share its pressure-controlled segment.
+    const std::optional<std::size_t> segment = held_segment_of(records, k, held);
     std::size_t last = k + 1;
-    while (last - k < span && last + 1 < records.size() && records[last + 1].L == records[k + 1].L &&
-           records[last + 1].time > records[last].time)
+    bool one_L = true;
+    while (last - k < span && last + 1 < records.size() && records[last + 1].time > records[last].time) {
+      const bool same_L = records[last + 1].L == records[k + 1].L;
+      if (!same_L && !(segment && held_segment_of(records, last, held) == segment)) break;
+      one_L = one_L && same_L;
       ++last;
+    }
     const db::Record& after = records[last];
     const double dt = after.time - before.time;
-    if (!(dt > 0) || (after.L + after.L.transpose()).norm() == 0) continue;
-    samples.push_back(make_sample(point_state(before), point_state(after), after.L, dt, constants,
+    dem::Mat3 L = after.L;
+    if (!one_L) {
+      L.setZero();
+      for (std::size_t j = k + 1; j <= last; ++j) L += records[j].L * (records[j].time - records[j - 1].time);
+      L /= dt;
+    }
+    if (!(dt > 0) || (L + L.transpose()).norm() == 0) continue;
+    samples.push_back(make_sample(point_state(before), point_state(after), L, dt, constants,
                                   {path_id, static_cast<std::int64_t>(k)}));
   }
   return samples;
@@ -52,7 +95,8 @@ Dataset reindex(db::Library& library, std::size_t span) {
   Dataset dataset{library_constants(library), {}};
   for (const db::PathRow& path : library.catalogue().paths()) {
     if (path.status != db::PathStatus::done || path.record_count < 2) continue;
-    const std::vector<Sample> samples = path_samples(path.id, library.records(path.id), dataset.constants, span);
+    const std::vector<Sample> samples =
+        path_samples(path.id, library.records(path.id), dataset.constants, span, held_segments(path.spec));
     dataset.samples.insert(dataset.samples.end(), samples.begin(), samples.end());
   }
   return dataset;

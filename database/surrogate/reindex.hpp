@@ -14,6 +14,11 @@
 //   rms per 0.1 ms against a mean change of zero). A cell of another packing fluctuates as much, so the
 //   fluctuation is not what the surrogate should learn, nor what its error estimate should count;
 //   averaged over s intervals it falls about s times.
+//   On a pressure-controlled segment (path_input.hpp: the in-plane isotropic part of L is servoed at
+//   every increment, so no two records share L) the intervals of the segment count as one loading,
+//   and the sample's L is their time-weighted mean, as a live point's learned span takes the mean L
+//   of its steps. Until stop 50 such a segment, a flow at its critical state, gave one-interval
+//   samples only: its fluctuation, unaveraged.
 // - Only committed records of `done` paths are read (as the nearest-state index does); nothing is
 //   written to the library.
 // - The constants come from the library itself: p_ref the mean pressure of its templates (the
@@ -22,6 +27,7 @@
 //   in tension gets its stiffness from its bonds, not from p, and normalizing by p_ref/100 made the
 //   answers of such states a hundred times those of compressed ones (measured on a sampled library).
 #pragma once
+#include <string>
 #include <vector>
 
 #include "database/surrogate/sample.hpp"
@@ -40,9 +46,18 @@ struct Dataset {
 
 PointState point_state(const db::Record& record);
 
+// [begin, end] [s, from the path's start] of one pressure-controlled segment of a stored path.
+struct HeldSegment {
+  double begin = 0, end = 0;
+};
+
+// The pressure-controlled segments of a path's canonical spec (PathRow::spec; none for a replay).
+std::vector<HeldSegment> held_segments(const std::string& spec);
+
 // The samples of one stored path (its records in order), each spanning up to `span` ≥ 1 intervals.
 std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
-                                 const FeatureConstants& constants, std::size_t span = 1);
+                                 const FeatureConstants& constants, std::size_t span = 1,
+                                 const std::vector<HeldSegment>& held = {});
 
 // Throws db::StoreError when the library has no template.
 FeatureConstants library_constants(db::Library& library);

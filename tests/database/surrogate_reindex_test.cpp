@@ -85,6 +85,50 @@ TEST(SurrogateReindex, ASampleSpansIntervalsOfOneLoadingOnly) {
   EXPECT_THROW(reindex(library, 0), std::invalid_argument);
 }
 
+// A pressure-controlled segment servoes L's in-plane isotropic part at every increment, so no two of
+// its records share L: its intervals count as one loading, each sample spans up to three of them
+// under their time-weighted mean L (which takes its first record to its last), and none reaches into
+// the kinematic segment after it.
+TEST(SurrogateReindex, ASampleSpansThePressureControlledIntervalsOfOneSegment) {
+  const test::TempDir dir("grainbank-surrogate-held");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", R"({"record_interval": 2e-4,
+    "paths": [{"segments": [{"L": [[0, 2], [0, 0]], "duration": 0.004, "pressure": 1000},
+                            {"L": [[0, 1], [0, 0]], "duration": 0.002}]}]})");
+  const db::PathRow path = library.catalogue().paths().front();
+  const std::vector<HeldSegment> held = held_segments(path.spec);
+  ASSERT_EQ(held.size(), 1u);
+  EXPECT_NEAR(held[0].begin, 0, 1e-15);
+  EXPECT_NEAR(held[0].end, 0.004, 1e-15);
+  const std::vector<db::Record> records = library.records(path.id);
+  ASSERT_GT(records.size(), 25u);
+  ASSERT_NE(records[2].L, records[1].L) << "the servo changes L at every record";
+
+  constexpr std::size_t kSpan = 3;
+  const Dataset dataset = reindex(library, kSpan);
+  std::size_t spanning = 0;
+  for (const Sample& s : dataset.samples) {
+    const auto k = static_cast<std::size_t>(s.origin.record_index);
+    const bool in_held = records[k + 1].time <= 0.004 + 1e-9;
+    // The furthest record the sample may reach: within the span, and within the held segment or, in
+    // the kinematic one, while L stays the same.
+    std::size_t last = k + 1;
+    while (last < k + kSpan && last + 1 < records.size() &&
+           (in_held ? records[last + 1].time <= 0.004 + 1e-9 : records[last + 1].L == records[k + 1].L))
+      ++last;
+    if (in_held && last - k == kSpan) ++spanning;
+    dem::Mat3 L = dem::Mat3::Zero();
+    for (std::size_t j = k + 1; j <= last; ++j) L += records[j].L * (records[j].time - records[j - 1].time);
+    const double dt = records[last].time - records[k].time;
+    const PointState end = advance(point_state(records[k]), L / dt, dt, s.answer, dataset.constants);
+    const dem::Mat3 target = db::from_stress6(records[last].stress);
+    for (const auto& [r, c] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 1}})
+      EXPECT_NEAR(end.stress(r, c), target(r, c), 1e-9 * target.norm()) << "record " << k;
+  }
+  EXPECT_EQ(dataset.samples.size(), records.size() - 1);
+  EXPECT_GT(spanning, 10u) << "the held segment's samples span three intervals";
+  EXPECT_TRUE(held_segments(R"({"replay": [[[0, 1], [0, 0]]]})").empty());
+}
+
 TEST(SurrogateReindex, ALibraryWithoutATemplateIsRefusedByName) {
   const test::TempDir dir("grainbank-surrogate-empty");
   const app::CellInput input = app::load_cell_input(dir.write("cell.json", sampler::test::kCell));
