@@ -1,5 +1,6 @@
 #include "dem_sampler/sampler/paths_input.hpp"
 
+#include <algorithm>
 #include <numbers>
 
 #include "dem_sampler/sampler/path_generator.hpp"

@@ -141,8 +141,8 @@ void Solver::step(double dt) {
   locate_points();
   timed(phase_times_.particles_to_grid, [&] { particles_to_grid(grid_, points_, stencils_, buffers_); });
   timed(phase_times_.contact, [&] { apply_obstacle_contacts(dt); });
-  const std::optional<HomogeneousDrive> drive =
-      settings_.homogeneous_drive ? std::optional(servoed_drive(*settings_.homogeneous_drive, points_, dt, drive_integral_)) : std::nullopt;
+  std::optional<HomogeneousDrive> drive;
+  if (settings_.homogeneous_drive) drive = servoed_drive(*settings_.homogeneous_drive, points_, dt, drive_integral_);
   timed(phase_times_.grid, [&] {
     update_grid(grid_, gravity_.at(time_));
     if (drive) impose_homogeneous_velocity(grid_, *drive);
