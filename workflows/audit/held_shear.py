@@ -59,33 +59,28 @@ def scene(block, pressure, rate, strain):
                          "points_per_cell": 1}]}
 
 
+def history(run_folder):
+    """Per snapshot: shear strain, the stress (9 components, tension positive) and the dilation −ln(ρ/ρ0)."""
+    snapshots = vtu.read_run(run_folder)
+    stress = np.array([s.fields["stress"][0] for s in snapshots])
+    density = np.array([s.fields["density"][0] for s in snapshots])
+    return np.arange(len(snapshots)) * SNAPSHOT_STRAIN, stress, np.log(density[0] / density), snapshots[-1]
+
+
 def steady_flow(run_folder):
     """The run's steady-flow measures (module docstring) from its snapshots and summary."""
-    snapshots = vtu.read_run(run_folder)
-    stress = np.array([s.fields["stress"][0] for s in snapshots])
-    density = np.array([s.fields["density"][0] for s in snapshots])
-    steady = slice(len(snapshots) // 2, None)
-    normal = -stress[steady, 4]
+    _, stress, dilation, last = history(run_folder)
+    steady = stress[len(stress) // 2:]
+    normal = -steady[:, 4]
     summary = json.loads((run_folder / "summary.json").read_text())
     law = summary["coupling"]["laws"][0]
-    return {"friction": float(np.mean(np.abs(stress[steady, 1])) / np.mean(normal)),
+    return {"friction": float(np.mean(np.abs(steady[:, 1])) / np.mean(normal)),
             "normal_stress_Pa": float(np.mean(normal)),
-            "sxx_over_syy": float(np.mean(stress[steady, 0]) / np.mean(stress[steady, 4])),
-            "szz_over_syy": float(np.mean(stress[steady, 8]) / np.mean(stress[steady, 4])),
-            "dilation": float(np.log(density[0] / density[-1])),
-            "damage": float(snapshots[-1].fields["damage"][0]),
+            "sxx_over_syy": float(np.mean(steady[:, 0]) / np.mean(steady[:, 4])),
+            "szz_over_syy": float(np.mean(steady[:, 8]) / np.mean(steady[:, 4])),
+            "dilation": float(dilation[-1]),
+            "damage": float(last.fields["damage"][0]),
             "live_share": (1.0 if law["law"] == "live" else law["live_point_steps"] / summary["coupling"]["point_steps"])}
-
-
-def history(run_folder):
-    """Shear strain, friction |σ_xy|/(−σ_yy) and dilation −ln(ρ/ρ0) at every snapshot."""
-    snapshots = vtu.read_run(run_folder)
-    stress = np.array([s.fields["stress"][0] for s in snapshots])
-    density = np.array([s.fields["density"][0] for s in snapshots])
-    strain = np.arange(len(snapshots)) * SNAPSHOT_STRAIN
-    with np.errstate(divide="ignore", invalid="ignore"):
-        friction = np.abs(stress[:, 1]) / -stress[:, 4]
-    return strain, friction, np.log(density[0] / density)
 
 
 def plot(folders, out):
@@ -93,8 +88,8 @@ def plot(folders, out):
     fig, axes = plt.subplots(2, len(folders), figsize=(3.2 * len(folders), 5.2), squeeze=False, sharex=True)
     for column, ((pressure, rate), runs) in enumerate(folders.items()):
         for name, folder in runs.items():
-            strain, friction, dilation = history(folder)
-            axes[0][column].plot(strain[1:], friction[1:], label=name)
+            strain, stress, dilation, _ = history(folder)
+            axes[0][column].plot(strain[1:], np.abs(stress[1:, 1]) / -stress[1:, 4], label=name)
             axes[1][column].plot(strain, dilation, label=name)
         axes[0][column].set_title(f"P = {pressure:g} Pa, γ̇ = {rate:g} /s", fontsize=9)
         axes[0][column].set_ylim(0, 1.2)

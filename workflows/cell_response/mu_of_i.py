@@ -4,9 +4,10 @@
 
 For each packing seed the cell of moduli.py (dense, μ_p = 0.5, no bonds) is prepared at P and sheared
 by `dem_sampler rheometer` at every inertial number, from the prepared state each time, to a strain
-`--strain` (steady from γ = 1). `--pressure`, `--restitution`, `--tangential-ratio` and `--diameter-spread` change P,
-the contacts' restitution, their k_t/k_n and the spread of diameters about the mean (the cell's stiffness number κ = k_n/(P d) scales as
-1/P), to tell the causes of a μ_s apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
+`--strain` (steady from γ = 1). `--pressure`, `--restitution`, `--tangential-ratio` and
+`--diameter-spread` change P, the contacts' restitution, their k_t/k_n and the spread of diameters
+about the mean (the cell's stiffness number κ = k_n/(P d) scales as 1/P), to tell the causes of a μ_s
+apart. The law μ(I) = μ_s + (μ_2 − μ_s) / (I_0 / I + 1) is fitted to the
 seed means (least squares, weighted by the standard error). Jop et al.'s glass beads (μ_s = tan 20.9°,
 μ_2 = tan 32.76°, I_0 = 0.279) are drawn for the shape, not as a target: their grains are not these.
 
