@@ -15,6 +15,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 from plotting.scenes import GRAVITY_PERTURBATION, draw_gravity_factors, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
 
+
 def drawn(name, knob, value, material):
     """The surrogate run `name` and two more draws of it on gravity changed in its 12th digit
     (`name`_draw_1, _draw_2): a run of the chaotic flow is one trajectory, and its error over the three

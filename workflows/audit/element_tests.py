@@ -57,17 +57,26 @@ def velocity_gradient(loading, rate):
 LOADINGS = ["oedometric", "unloading", "extension", "simple_shear", "pure_shear"]
 
 
-def scene(args, loading):
-    """One point of 0.1 m × 0.1 m in the middle of a 6 × 6 grid, driven homogeneously about its centre."""
-    material = {"name": "cell", "law": args.law, "library": str(args.library.resolve()), "template": args.template,
-                **material_settings(args)}
-    end = args.strain / args.rate
+def law_block(args):
+    """The material block of the law under test, on the library's template."""
+    return {"name": "cell", "law": args.law, "library": str(args.library.resolve()), "template": args.template,
+            **material_settings(args)}
+
+
+def one_point_scene(block, drive, end, output_interval):
+    """One point of `block`, 0.1 m × 0.1 m, in the middle of a 6 × 6 grid, driven homogeneously about its
+    centre by `drive` (the scene key integration.homogeneous_drive, without its origin) until `end` [s]."""
     return {"grid": {"cell_size": 0.1, "cells": [6, 6]},
-            "time": {"end": end, "output_interval": end, "max_time_step": 1e-4},
-            "integration": {"homogeneous_drive": {"L": velocity_gradient(loading, args.rate), "origin": [0.3, 0.3]}},
-            "materials": [material],
+            "time": {"end": end, "output_interval": output_interval, "max_time_step": 1e-4},
+            "integration": {"homogeneous_drive": {**drive, "origin": [0.3, 0.3]}},
+            "materials": [{**block, "name": "cell"}],
             "regions": [{"material": "cell", "rectangle": {"min": [0.25, 0.25], "max": [0.35, 0.35]},
-                         "points_per_cell": 1}],
+                         "points_per_cell": 1}]}
+
+
+def scene(args, loading):
+    end = args.strain / args.rate
+    return {**one_point_scene(law_block(args), {"L": velocity_gradient(loading, args.rate)}, end, end),
             "audit": {"points": 1}}
 
 

@@ -40,23 +40,17 @@ def material(args, law):
     """The material block of `law`: "reference" and "floor" are live cells of the two packings."""
     live = element_tests.material_settings(argparse.Namespace(law="live", material={}))
     if law == "reference":
-        return {"name": "cell", "law": "live", "library": str(args.library.resolve()), "template": args.template, **live}
+        return {"law": "live", "library": str(args.library.resolve()), "template": args.template, **live}
     if law == "floor":
-        return {"name": "cell", "law": "live", "cell": str(args.floor_cell.resolve()), **live}
-    return {"name": "cell", "law": args.law, "library": str(args.library.resolve()), "template": args.template,
-            **element_tests.material_settings(args)}
+        return {"law": "live", "cell": str(args.floor_cell.resolve()), **live}
+    return element_tests.law_block(args)
 
 
 def scene(block, pressure, rate, strain):
-    """One point of 0.1 m × 0.1 m in the middle of a 6 × 6 grid, sheared about its centre."""
-    end = strain / rate
-    return {"grid": {"cell_size": 0.1, "cells": [6, 6]},
-            "time": {"end": end, "output_interval": SNAPSHOT_STRAIN / rate, "max_time_step": 1e-4},
-            "integration": {"homogeneous_drive": {"L": [[0, rate], [0, 0]], "origin": [0.3, 0.3],
-                                                  "normal_stress": {"stress": pressure}}},
-            "materials": [block],
-            "regions": [{"material": "cell", "rectangle": {"min": [0.25, 0.25], "max": [0.35, 0.35]},
-                         "points_per_cell": 1}]}
+    """Simple shear at `rate` under σ_yy = −pressure, to `strain`, one snapshot per SNAPSHOT_STRAIN."""
+    return element_tests.one_point_scene(
+        block, {"L": [[0, rate], [0, 0]], "normal_stress": {"stress": pressure}}, strain / rate,
+        SNAPSHOT_STRAIN / rate)
 
 
 def history(run_folder):
@@ -133,8 +127,9 @@ def main():
             for who in ("reference", "floor", "law"):
                 folder = args.out / "runs" / f"P{pressure:g}_rate{rate:g}_{who}"
                 results[who] = run(mpm_solver, folder, scene(material(args, who), pressure, rate, args.strain))
-                folders.setdefault((pressure, rate), {})[args.law if who == "law" else who] = folder / "run"
-                rows.append({"P_Pa": pressure, "rate": rate, "run": args.law if who == "law" else who,
+                name = args.law if who == "law" else who
+                folders.setdefault((pressure, rate), {})[name] = folder / "run"
+                rows.append({"P_Pa": pressure, "rate": rate, "run": name,
                              **{k: round(v, 4) for k, v in results[who].items()}, "friction_error_over_floor": None})
             floor = abs(results["floor"]["friction"] - results["reference"]["friction"])
             error = abs(results["law"]["friction"] - results["reference"]["friction"])
