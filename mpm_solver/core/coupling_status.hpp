@@ -24,6 +24,7 @@ struct CouplingCounters {
   std::uint64_t warm_start_increments = 0;  // DEM increments run to bring new live cells to their F
   std::uint64_t warm_start_servo_steps = 0;  // DEM steps of the stress servo of state warm starts
   std::uint64_t servo_unconverged = 0;       // state warm starts whose servo did not reach the point's stress
+  std::uint64_t warm_start_catch_up_steps = 0;  // DEM steps driving points' own cells through their motion since kept
   double warm_start_seconds = 0;            // wall time of building those cells [s]
   double estimated_error_sum = 0;           // Σ over lookups of the lookup's estimated error [Pa]
   std::uint64_t enriched_paths = 0, enriched_records = 0;  // written to the run's own shard
@@ -37,6 +38,7 @@ struct CouplingCounters {
     went_live_on_budget += o.went_live_on_budget, reanchored += o.reanchored;
     returned_to_cache += o.returned_to_cache, warm_start_increments += o.warm_start_increments;
     warm_start_servo_steps += o.warm_start_servo_steps, servo_unconverged += o.servo_unconverged;
+    warm_start_catch_up_steps += o.warm_start_catch_up_steps;
     warm_start_seconds += o.warm_start_seconds, estimated_error_sum += o.estimated_error_sum;
     enriched_paths += o.enriched_paths, enriched_records += o.enriched_records, retilings += o.retilings;
     regenerations += o.regenerations, regenerations_unconverged += o.regenerations_unconverged;

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "dem_sampler/cell/substepping.hpp"
 #include "database/surrogate/state_features.hpp"
 
 namespace grainbank::mpm {
@@ -20,6 +21,7 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
     throw std::invalid_argument("fallback.stress_tolerance: expected a positive stress [Pa]");
   if (!(settings_.servo_inertial_number > 0))
     throw std::invalid_argument("fallback.servo_inertial_number: expected a positive number");
+  if (settings_.catch_up_steps < 1) throw std::invalid_argument("fallback.catch_up_steps: expected at least 1");
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
@@ -63,14 +65,43 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
 
 WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model,
                                        const std::optional<OwnCell>& own) const {
-  // The point's own cell whenever it may start it: the state key's distance does not tell how far a
+  // The point's own cell whenever it has one: the state key's distance does not tell how far a
   // foreign packing is from the point's (a snapshot nearer in key than the own cell needed 7× its
   // servo steps, stop 46).
-  const bool from_own = own && not_more_damaged(own->state, own->cell.initial_bond_count(), state);
-  const std::size_t index = from_own ? 0 : nearest(state);
-  dem::DemCell cell = from_own ? own->cell : model.cell_from(snapshots_[index].cell);
+  if (own) {
+    WarmStartOutcome outcome{own->cell, 0, true, {}, {}};
+    catch_up(outcome.cell, own->motion, model, outcome.catch_up);
+    return outcome;
+  }
+  const std::size_t index = nearest(state);
+  dem::DemCell cell = model.cell_from(snapshots_[index].cell);
   const dem::StressServoResult result = servo(cell, state, model);
-  return {std::move(cell), index, from_own, result};
+  return {std::move(cell), index, false, result, {}};
+}
+
+void StateWarmStart::catch_up(dem::DemCell& cell, const std::vector<KinematicIncrement>& motion,
+                              const LiveCellModel& model, CouplingCounters& counters) const {
+  Mat2 F = Mat2::Identity();
+  double elapsed = 0;
+  for (const KinematicIncrement& increment : motion) {
+    F = increment.F * F;
+    elapsed += increment.dt;
+  }
+  if (!(elapsed > 0)) return;
+  const dem::Substepping& q = model.settings().substepping;
+  const double dt = cell.time_step(q.q_t);
+  KinematicIncrement whole;
+  try {
+    whole = KinematicIncrement::of_deformation(F, std::min(elapsed, static_cast<double>(settings_.catch_up_steps) * dt));
+  } catch (const std::invalid_argument&) {  // turned by π: no single drive does it
+    for (const KinematicIncrement& increment : motion) {
+      model.advance(cell, increment, counters);
+      counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(increment.dt, dt, q.q_n));
+    }
+    return;
+  }
+  model.advance(cell, whole, counters);
+  counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(whole.dt, dt, q.q_n));
 }
 
 dem::StressServoResult StateWarmStart::servo(dem::DemCell& cell, const surrogate::PointState& target,

@@ -16,12 +16,21 @@
 // - start() copies that cell and servos it at inertial number servo_inertial_number (at the target's
 //   pressure) until its windowed mean stress is within `stress_tolerance` of the point's in every
 //   component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
-// - A point that was live before starts from its own former cell (`own`, with the state the point
-//   had when it handed that cell back) whenever that cell is not more damaged than the point (the
-//   same rule), however near a snapshot is: the cell carries the point's own fabric and broken
-//   bonds, which the state key does not see. The nearest snapshot serves only a point without one.
-//   Measured (stop 46): snapshots taken because they were nearer in the key than the own cell needed
-//   835 servo steps on average, the own cells 116.
+// - A point that was live before starts from its own former cell (`own`), however near a snapshot
+//   is: the cell carries the point's own fabric and broken bonds, which the state key does not see.
+//   That cell is not servoed but caught up: driven through the point's motion since it handed the
+//   cell back (the product F of those increments), at constant velocity gradient, in at most
+//   catch_up_steps DEM steps (the motion's own pace when it took fewer). The cell then carries the
+//   stress, φ, Z and D its packing develops under the point's motion, which the MPM knows exactly,
+//   where a servo would bring it to the stress the surrogate integrated, drifted or not: a dense
+//   cell servoed at rest carries a flowing point's drifted stress ratio of 1.2 (stop 51: one point in
+//   steady shear under a held normal stress flowed at 1.6–2.1× the live cell's friction when its
+//   kept cell was servoed, within 8 % of it when caught up). The catch-up is faster than the point
+//   moved (a re-anchoring every ~20 MPM steps of ~100 DEM steps each); in fewer steps the cell is
+//   left more agitated and more of the points that follow go live (stop 51: 30 steps sent 20 % of
+//   the demo column's point-steps live, 200 steps 11 %). A motion with no principal logarithm (a
+//   rotation by π) is replayed increment by increment at its own pace. The nearest snapshot serves
+//   only a point without a cell of its own, and is servoed.
 // - A servo that does not converge (max_servo_steps, or no progress: the point's stress lies beyond
 //   what the packing can carry, e.g. a surrogate state that drifted past the yield surface) leaves
 //   the cell at the nearest stress it could reach; the outcome says so, and the caller keeps that
@@ -49,19 +58,22 @@ struct StateWarmStartSettings {
   double servo_inertial_number = 1e-3; // servo rate |L| ≤ I √(p/ρ) / d: quasi-static
   long max_servo_steps = 20000;        // DEM steps
   bool replay_unconverged = false;     // an unconverged servo: replay the point's history instead
+  long catch_up_steps = 200;            // DEM steps of a catch-up at most (above)
 };
 
 struct WarmStartOutcome {
-  dem::DemCell cell;         // where the servo left it, converged or not
+  dem::DemCell cell;         // where the servo or the catch-up left it
   std::size_t snapshot = 0;  // index of the snapshot it started from (when not from its own cell)
-  bool own = false;          // started from the point's own former cell
-  dem::StressServoResult servo;
+  bool own = false;          // started from the point's own former cell, caught up
+  dem::StressServoResult servo;  // of a snapshot
+  // Of the point's own cell: its DEM steps (warm_start_catch_up_steps) and re-tilings.
+  CouplingCounters catch_up;
 };
 
-// A point's own former cell and the point's state when it handed the cell back.
+// A point's own former cell and the point's increments since it handed the cell back.
 struct OwnCell {
-  const surrogate::PointState& state;
   const dem::DemCell& cell;
+  std::vector<KinematicIncrement> motion;
 };
 
 class StateWarmStart {
@@ -85,6 +97,8 @@ class StateWarmStart {
   // Whether a cell in state `cell` with `bonds` initial bonds may start a point in state `point`.
   static bool not_more_damaged(const surrogate::PointState& cell, std::int64_t bonds, const surrogate::PointState& point);
   dem::StressServoResult servo(dem::DemCell& cell, const surrogate::PointState& target, const LiveCellModel& model) const;
+  void catch_up(dem::DemCell& cell, const std::vector<KinematicIncrement>& motion, const LiveCellModel& model,
+                CouplingCounters& counters) const;
 
   std::vector<StateSnapshot> snapshots_;
   std::vector<StateKey> keys_;

@@ -82,7 +82,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     const int steps_to_return = p.budget_spell ? 1 : settings_.return_after;
     if (settings_.return_after > 0 && p.steps_inside >= steps_to_return) {
       // The point keeps the cell's state.
-      park(p);
+      park(p, p.history.size());
       --live_points_;
       p.steps_inside = 0;
       ++p.counters.returned_to_cache;
@@ -114,19 +114,24 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   p.error = step.estimated_error;
 }
 
-void SurrogateLaw::start_cell(Point& p) {
+bool SurrogateLaw::start_cell(Point& p) {
   const auto start = std::chrono::steady_clock::now();
   // The history already holds this step's increment, which advance_live applies.
   const auto before_this_step = p.history.end() - 1;
   p.cell_is_exact = false;
+  bool caught_up = false;
   if (warm_start_ && p.history.size() > 1) {
     std::optional<OwnCell> own;
-    if (p.parked) own.emplace(OwnCell{p.parked_state, *p.parked});
+    if (p.parked)
+      own.emplace(OwnCell{*p.parked, {p.history.begin() + static_cast<std::ptrdiff_t>(p.parked_at), before_this_step}});
     WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
     p.parked.reset();
+    caught_up = outcome.own;
+    p.counters += outcome.catch_up;
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
-    if (!outcome.servo.converged) ++p.counters.servo_unconverged;
-    if (outcome.servo.converged || !settings_.state_warm_start.replay_unconverged)
+    const bool servo_failed = !outcome.own && !outcome.servo.converged;
+    if (servo_failed) ++p.counters.servo_unconverged;
+    if (!servo_failed || !settings_.state_warm_start.replay_unconverged)
       p.cell = std::make_unique<dem::DemCell>(std::move(outcome.cell));
   }
   if (!p.cell) {
@@ -141,6 +146,7 @@ void SurrogateLaw::start_cell(Point& p) {
   const dem::CellMeasures m = p.cell->measures();
   p.state = state_of(m.stress, m);  // the cell's state, not the surrogate's estimate of it
   p.counters.warm_start_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return caught_up;
 }
 
 void SurrogateLaw::go_live(Point& p) {
@@ -152,23 +158,24 @@ void SurrogateLaw::go_live(Point& p) {
 
 void SurrogateLaw::reanchor(Point& p) {
   const double damage = p.state.damage;
-  start_cell(p);
-  // Bonds do not heal: a kept cell has the broken bonds it had when the point handed it back, and
-  // taking its D would drop the damage the point has integrated since (stop 46: the a = 1 column
-  // kept its mean D at 0.02 against live's 0.24, and stood).
-  p.state.damage = std::max(p.state.damage, damage);
-  park(p);
+  // Bonds do not heal: a servoed snapshot has no more broken bonds than the point, and taking its D
+  // would drop the damage the point has integrated (stop 46: the a = 1 column kept its mean D at
+  // 0.02 against live's 0.24, and stood). The point's own cell, caught up on its motion, broke the
+  // bonds that motion breaks: its D is the better estimate, and the point takes it.
+  if (!start_cell(p)) p.state.damage = std::max(p.state.damage, damage);
+  // The cell has not seen this step's increment: the surrogate answers it from the cell's state.
+  park(p, p.history.size() - 1);
   ++p.counters.reanchored;
 }
 
-void SurrogateLaw::park(Point& p) {
+void SurrogateLaw::park(Point& p, std::size_t seen) {
   if (p.cell_is_exact) {
     p.checkpoint = std::make_unique<dem::DemCell>(*p.cell);
-    p.checkpoint_at = p.history.size();
+    p.checkpoint_at = seen;
   }
   if (warm_start_) {
     p.parked = std::move(p.cell);
-    p.parked_state = p.state;
+    p.parked_at = seen;
   }
   p.cell.reset();
 }
@@ -238,13 +245,13 @@ namespace {
 // since its last live spell [Pa], live cell started by replay (0/1), live spell started by the
 // budget (0/1); live cells as "cell_<slot>"; the replay histories as append_history writes them;
 // the learned samples as rows features, answer, origin path, origin record, in insertion order;
-// per kept cell: slot and the state it was kept with (σ, φ, Z, D), the cell as "parked_<slot>"; per
+// per kept cell: slot and the increments it has seen, the cell as "parked_<slot>"; per
 // checkpoint: slot and the increments it has seen, the cell as "checkpoint_<slot>"; per step of a live
 // cell's sample span, in order: slot, the state before it (σ, φ, Z, D), L (9, row-major), dt.
 constexpr std::size_t kStateColumns = 12;
 constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
-constexpr std::size_t kParkedColumns = 1 + kStateColumns;
+constexpr std::size_t kParkedColumns = 2;
 constexpr std::size_t kCheckpointColumns = 2;
 constexpr std::size_t kSpanColumns = 1 + kStateColumns + 9 + 1;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
@@ -280,8 +287,7 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
     append_history(history, slot, p.history);
     if (p.cell) out.write_cell(cell_name(slot), *p.cell);
     if (p.parked) {
-      parked.push_back(double(slot));
-      append_state(parked, p.parked_state);
+      parked.insert(parked.end(), {double(slot), double(p.parked_at)});
       out.write_cell(parked_cell_name(slot), *p.parked);
     }
     if (p.checkpoint) {
@@ -337,7 +343,7 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
   for (std::size_t r = 0; r < parked.size(); r += kParkedColumns) {
     const auto slot = static_cast<std::size_t>(parked[r]);
     Point& p = points_.at(slot);
-    p.parked_state = state_from(&parked[r + 1]);
+    p.parked_at = static_cast<std::size_t>(parked[r + 1]);
     p.parked = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(parked_cell_name(slot))));
   }
   for (Point& p : points_) p.checkpoint.reset();
@@ -382,7 +388,7 @@ using common::Range;
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
 // (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback": {"return_after",
 // "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
-// "servo_inertial_number", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
+// "servo_inertial_number", "catch_up_steps", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "sample_span", "substepping", "q_h", "retiling",
                                       "fallback"};
@@ -397,7 +403,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
       material.integer_or("sample_span", static_cast<std::int64_t>(s.sample_span), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
-                          "unconverged"});
+                          "catch_up_steps", "unconverged"});
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
     if (const auto mode = fallback->find("warm_start")) {
       const std::string name = mode->string();
@@ -408,6 +414,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
     if (fallback->has("stress_tolerance")) w.stress_tolerance = fallback->number("stress_tolerance", Range::positive());
     w.max_servo_steps = fallback->integer_or("max_servo_steps", w.max_servo_steps, 1, 1000000000);
     w.servo_inertial_number = fallback->number_or("servo_inertial_number", w.servo_inertial_number, Range::positive());
+    w.catch_up_steps = fallback->integer_or("catch_up_steps", w.catch_up_steps, 1, 1000000000);
     if (const auto unconverged = fallback->find("unconverged")) {
       const std::string name = unconverged->string();
       if (name != "keep" && name != "replay") unconverged->fail("expected \"keep\" or \"replay\"");

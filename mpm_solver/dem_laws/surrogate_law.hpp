@@ -123,10 +123,11 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     double error = 0;
     StressSource source = StressSource::hit;
     std::unique_ptr<dem::DemCell> cell;       // live only
-    // The cell the point handed back when it last returned to the surrogate, and the point's state
-    // then: a start for its next live spell (state_warm_start.hpp).
+    // The cell the point handed back when it last returned to the surrogate or was re-anchored, and
+    // how many increments of its history that cell has seen: its next start catches it up on the
+    // rest (state_warm_start.hpp).
     std::unique_ptr<dem::DemCell> parked;
-    surrogate::PointState parked_state;
+    std::size_t parked_at = 0;
     // The point's last exact cell (the cell a live-law point would own after the first
     // `checkpoint_at` increments of its history): a replay starts from it instead of the template.
     std::unique_ptr<dem::DemCell> checkpoint;
@@ -147,12 +148,14 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     CouplingCounters counters;
   };
 
-  // A cell for the point (state warm start, or replay), whose state the point takes.
-  void start_cell(Point& p);
+  // A cell for the point (state warm start, or replay), whose state the point takes. True when it is
+  // the point's own cell, caught up on the point's motion.
+  bool start_cell(Point& p);
   void go_live(Point& p);
   void reanchor(Point& p);
-  // The point gives its live cell up, keeping it for its next start (and as a checkpoint when exact).
-  void park(Point& p);
+  // The point gives its live cell up, keeping it for its next start (and as a checkpoint when exact);
+  // the cell has seen the first `seen` increments of the point's history.
+  void park(Point& p, std::size_t seen);
   void advance_live(std::size_t slot, Point& p, const KinematicIncrement& increment, const dem::Mat3& L,
                     PointStress& stress);
   // The sample of the point's span: its first state to now, under the span's mean L.

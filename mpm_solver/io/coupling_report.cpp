@@ -43,6 +43,7 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"warm_start_increments", c.warm_start_increments},
                     {"warm_start_servo_steps", c.warm_start_servo_steps},
                     {"servo_unconverged", c.servo_unconverged},
+                    {"warm_start_catch_up_steps", c.warm_start_catch_up_steps},
                     {"went_live_on_budget", c.went_live_on_budget},
                     {"reanchored", c.reanchored},
                     {"warm_start_seconds", c.warm_start_seconds},

@@ -23,7 +23,9 @@ namespace grainbank::mpm::io {
 // 5: the surrogate law keeps each point's checkpoint (its last cell started by replay) and whether
 //    its live cell is one; the error spent counts since the last live spell.
 // 6: the surrogate law keeps whether a point's live spell was started by its spent error budget.
-inline constexpr const char* kRestartFormat = "grainbank-restart-6";
+// 7: the surrogate law keeps how many increments a point's kept cell has seen (its next start catches
+//    the cell up on the rest), no longer the point's state when it kept the cell.
+inline constexpr const char* kRestartFormat = "grainbank-restart-7";
 // Columns of a row of the dataset `points` (one row per point; restart.cpp lists them).
 inline constexpr std::size_t kRestartPointColumns = 33;
 

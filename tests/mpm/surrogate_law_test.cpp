@@ -332,11 +332,13 @@ class MemoryArchive : public LawStateWriter, public LawStateReader {
   std::map<std::string, dem::CellState> cells;
 };
 
-// Bonds do not heal. A point's kept cell has the broken bonds it had when the point handed it back;
-// a point that has since integrated more damage keeps its own D when it is re-anchored on that cell.
-// The test library's paths break at most two bonds, so the point's later damage is written into its
-// saved state (column 12 of "surrogate_points": slot, σ, φ, Z, then D).
-TEST(SurrogateLaw, AReanchoredPointKeepsItsDamage) {
+// Bonds do not heal. Re-anchored on a servoed snapshot (a point without a cell of its own), a point
+// that has integrated more damage than the snapshot keeps its own D. Re-anchored on its own kept cell,
+// caught up on its motion, it takes that cell's D: the cell broke the bonds the motion breaks, where
+// the point's D is the surrogate's estimate (stop 51). The test library's paths break at most two
+// bonds, so the point's later damage is written into its saved state (column 12 of
+// "surrogate_points": slot, σ, φ, Z, then D).
+TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
   std::vector<Mat2> motion(20, off_library_motion().front());
   motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
   SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
@@ -352,19 +354,35 @@ TEST(SurrogateLaw, AReanchoredPointKeepsItsDamage) {
   MemoryArchive archive;
   law->save_state(archive);
   ASSERT_EQ(archive.cells.count("parked_0"), 1u);
-  const double kept = archive.tables.at("surrogate_parked").at(12);
-  archive.tables.at("surrogate_points").at(12) = kept + 0.2;
+  const double kept = LiveCellModel(*shared().cell, LiveDemSettings{}).cell_from(archive.cells.at("parked_0")).measures().damage;
+  const double integrated = archive.tables.at("surrogate_points").at(12) + 0.2;
+  archive.tables.at("surrogate_points").at(12) = integrated;
   // Every step a hit, and any error spends the budget: the next step re-anchors.
   s.tolerance = kNoLimit;
   s.error_budget = 1e-9;
-  auto resumed = surrogate_law(s);
-  Driver e = new_point(*resumed);
-  resumed->restore_state(archive);
-  ASSERT_DOUBLE_EQ(resumed->damage(e.slot), kept + 0.2);
-  const std::uint64_t before = resumed->point_counters(e.slot).reanchored;
-  e(*resumed, motion[k + 1], kDt);
-  ASSERT_EQ(resumed->point_counters(e.slot).reanchored, before + 1);
-  EXPECT_GE(resumed->damage(e.slot), kept + 0.2);
+  for (const bool own : {true, false}) {
+    SCOPED_TRACE(own ? "its own cell" : "a snapshot");
+    MemoryArchive edited = archive;
+    if (!own) {
+      edited.cells.erase("parked_0");
+      edited.tables.at("surrogate_parked").clear();
+    }
+    auto resumed = surrogate_law(s);
+    Driver e = new_point(*resumed);
+    resumed->restore_state(edited);
+    ASSERT_DOUBLE_EQ(resumed->damage(e.slot), integrated);
+    const std::uint64_t before = resumed->point_counters(e.slot).reanchored;
+    e(*resumed, motion[k + 1], kDt);
+    ASSERT_EQ(resumed->point_counters(e.slot).reanchored, before + 1);
+    if (own) {
+      EXPECT_GT(resumed->point_counters(e.slot).warm_start_catch_up_steps, 0u);
+      EXPECT_GE(resumed->damage(e.slot), kept);
+      EXPECT_LT(resumed->damage(e.slot), integrated);
+    } else {
+      EXPECT_GT(resumed->point_counters(e.slot).warm_start_servo_steps, 0u);
+      EXPECT_GE(resumed->damage(e.slot), integrated);
+    }
+  }
 }
 
 // The state warm start chooses among the library's snapshots and the template: a stored state finds
@@ -426,38 +444,48 @@ TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
   EXPECT_GE(damaged, 5) << "the library should hold damaged snapshots to test with";
 }
 
-// A point that handed its cell back starts its next live spell from that cell, even when a snapshot
-// is nearer in the state key: the cell already carries the point's stress and fabric and needs one
-// servo window, where a snapshot needed more. A kept cell with more broken bonds than the point is
-// not taken.
-TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCell) {
+// A point that handed its cell back starts its next spell from that cell, caught up on the point's
+// motion since: the cell ends at the kept cell's deformation times that motion (the MPM's kinematics,
+// to round-off), in at most catch_up_steps DEM steps, and with the stress the same cell reaches driven
+// at the motion's own pace (the exact replay) within a quarter of the stress the motion adds: driven
+// faster, the cell is still quasi-static. With no motion since, the cell is the kept one.
+TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
   auto law = surrogate_law(settings(200));
   const StateWarmStart* warm = law->state_warm_start();
   ASSERT_NE(warm, nullptr);
   const LiveCellModel model(*shared().cell, LiveDemSettings{});
-  const auto longest = std::max_element(shared().paths.begin(), shared().paths.end(),
-                                        [](const auto& a, const auto& b) { return a.size() < b.size(); });
-  int compared = 0;
-  for (std::size_t k = 3; k < longest->size(); k += 5) {
-    const surrogate::PointState target = surrogate::point_state((*longest)[k]);
-    const WarmStartOutcome first = warm->start(target, model);
-    if (!first.servo.converged || first.servo.steps <= 50) continue;  // a snapshot that needed servoing
-    const WarmStartOutcome again = warm->start(target, model, OwnCell{target, first.cell});
-    EXPECT_TRUE(again.own) << "record " << k;
-    EXPECT_TRUE(again.servo.converged) << "record " << k;
-    EXPECT_LT(again.servo.steps, first.servo.steps) << "record " << k;
-    // Handed back at a state much farther from the point's than any snapshot of this library (φ
-    // 0.1 and Z 2 lower; the stop-45 rule took the nearest snapshot then): still the point's own cell.
-    surrogate::PointState far = target;
-    far.solid_fraction -= 0.1;
-    far.coordination -= 2;
-    EXPECT_TRUE(warm->start(target, model, OwnCell{far, first.cell}).own) << "record " << k;
-    surrogate::PointState broken = target;
-    broken.damage = target.damage + 0.2;
-    EXPECT_FALSE(warm->start(target, model, OwnCell{broken, first.cell}).own) << "record " << k;
-    ++compared;
+  CouplingCounters counters;
+  dem::DemCell kept = model.new_cell();
+  const std::vector<Mat2> loading = off_library_motion();
+  for (int k = 0; k < 10; ++k) model.advance(kept, KinematicIncrement::of_velocity_gradient(loading[k], kDt), counters);
+  const surrogate::PointState state{kept.stress(), 0, 0, 0};  // the own cell is taken whatever the state
+
+  const WarmStartOutcome still = warm->start(state, model, OwnCell{kept, {}});
+  EXPECT_TRUE(still.own);
+  EXPECT_EQ(still.catch_up.warm_start_catch_up_steps, 0u);
+  EXPECT_EQ(still.cell.deformation_gradient(), kept.deformation_gradient());
+  EXPECT_EQ(still.cell.stress(), kept.stress());
+
+  const double dem_step = kept.time_step(LiveDemSettings{}.substepping.q_t);
+  const std::vector<KinematicIncrement> motion(30, KinematicIncrement::of_velocity_gradient(Mat2{{0.5, 2.0}, {0.0, -0.5}}, kDt));
+  ASSERT_GT(30 * kDt, 2 * StateWarmStartSettings{}.catch_up_steps * dem_step) << "the catch-up must be faster than the motion";
+  const WarmStartOutcome caught = warm->start(state, model, OwnCell{kept, motion});
+  dem::DemCell replayed = kept;
+  Mat2 F = Mat2::Identity();
+  for (const KinematicIncrement& increment : motion) {
+    model.advance(replayed, increment, counters);
+    F = increment.F * F;
   }
-  EXPECT_GE(compared, 2);
+  EXPECT_TRUE(caught.own);
+  EXPECT_LE(caught.catch_up.warm_start_catch_up_steps, static_cast<std::uint64_t>(StateWarmStartSettings{}.catch_up_steps));
+  EXPECT_LT((caught.cell.deformation_gradient() - embed_plane_strain(F) * kept.deformation_gradient()).norm(), 1e-12);
+  const auto sym = [](const dem::Mat3& m) { return dem::Mat3(0.5 * (m + m.transpose())); };
+  const double added = (sym(replayed.stress()) - sym(kept.stress())).norm();
+  const double off = (sym(caught.cell.stress()) - sym(replayed.stress())).norm();
+  std::printf("the motion adds %.0f Pa; the catch-up in %llu DEM steps (the motion's pace: %.0f) ends %.0f Pa from the replay\n",
+              added, static_cast<unsigned long long>(caught.catch_up.warm_start_catch_up_steps), 30 * kDt / dem_step, off);
+  ASSERT_GT(added, 0.0);
+  EXPECT_LE(off, 0.25 * added);
 }
 
 // Along a motion the library does not cover, a point that goes live starts from a servoed snapshot:
