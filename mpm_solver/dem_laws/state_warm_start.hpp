@@ -1,36 +1,37 @@
 // A live fallback that starts in the right state (issue 13, item 3): when a surrogate point goes
-// live, its cell is not rebuilt by replaying the point's whole history (a cost that grows with the
-// run) but copied from the stored cell whose state is nearest to the point's, then brought to the
-// point's stress by the engine's stress servo (dem_sampler/cell/stress_servo.hpp) before it is
-// coupled.
+// live or is re-anchored, its cell is not rebuilt by replaying the point's whole history (a cost that
+// grows with the run). A point that has had a cell takes it again, caught up on the point's motion
+// since; a point that has not gets a copy of the stored cell whose state is nearest to its own,
+// brought to its stress by the engine's stress servo (dem_sampler/cell/stress_servo.hpp).
 //
 // Promises:
-// - nearest() compares states on the state part of the surrogate's key: ln(p/p_ref), η cos 3θ,
-//   η sin 3θ, φ, Z and D (state_features.hpp), each difference divided by the surrogate's length
+// - nearest() compares states on the state part of the surrogate's key: ln(p/p_ref), η cos 3θ, η
+//   sin 3θ, φ, Z and D (state_features.hpp), each difference divided by the surrogate's length
 //   scale of that feature, so "near" means what the surrogate's own fit found to matter. Ties go to
 //   the earlier snapshot. Deterministic and safe from any number of threads.
-// - It never starts a point from a cell with more broken bonds than the point's D (by more than one
-//   bond, 1/N_b(0)): bonds do not heal, so such a cell is a weaker material than the point's history
-//   made, for good (near D = 0 every other snapshot lies above the point, so without this rule a
-//   warm start could only raise its damage). The template (D = 0) always qualifies.
-// - start() copies that cell and servos it at inertial number servo_inertial_number (at the target's
-//   pressure) until its windowed mean stress is within `stress_tolerance` of the point's in every
-//   component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
-// - A point that was live before starts from its own former cell (`own`), however near a snapshot
-//   is: the cell carries the point's own fabric and broken bonds, which the state key does not see.
-//   That cell is not servoed but caught up: driven through the point's motion since it handed the
-//   cell back (the product F of those increments), at constant velocity gradient, in at most
-//   catch_up_steps DEM steps (the motion's own pace when it took fewer). The cell then carries the
-//   stress, φ, Z and D its packing develops under the point's motion, which the MPM knows exactly,
-//   where a servo would bring it to the stress the surrogate integrated, drifted or not: a dense
-//   cell servoed at rest carries a flowing point's drifted stress ratio of 1.2 (stop 51: one point in
-//   steady shear under a held normal stress flowed at 1.6–2.1× the live cell's friction when its
-//   kept cell was servoed, within 8 % of it when caught up). The catch-up is faster than the point
-//   moved (a re-anchoring every ~20 MPM steps of ~100 DEM steps each); in fewer steps the cell is
-//   left more agitated and more of the points that follow go live (stop 51: 30 steps sent 20 % of
-//   the demo column's point-steps live, 200 steps 11 %). A motion with no principal logarithm (a
-//   rotation by π) is replayed increment by increment at its own pace. The nearest snapshot serves
-//   only a point without a cell of its own, and is servoed.
+// - It never starts a point from a snapshot with more broken bonds than the point's D (by more than
+//   one bond, 1/N_b(0)): bonds do not heal, so such a cell is a weaker material than the point's
+//   history made, for good (near D = 0 every other snapshot lies above the point, so without this
+//   rule a warm start could only raise its damage). The template (D = 0) always qualifies.
+// - start() copies that snapshot and servos it at inertial number servo_inertial_number (at the
+//   target's pressure) until its windowed mean stress is within `stress_tolerance` of the point's
+//   in every component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
+// - A point that has had a cell (a live spell or a re-anchoring) starts from it (`own`), however
+//   near a snapshot is: the cell carries the point's own fabric and broken bonds, which the state
+//   key does not see. That cell is not servoed but caught up: driven through the point's motion
+//   since it handed the cell back (the product F of those increments), at constant velocity
+//   gradient, in at most catch_up_steps DEM steps (the motion's own pace when it took fewer). The
+//   cell then carries the stress, φ, Z and D its packing develops under the point's motion, which
+//   the MPM knows exactly, where a servo would bring it to the stress the surrogate integrated,
+//   drifted or not: a dense cell servoed at rest carries a flowing point's drifted stress ratio,
+//   q/p up to 1.25 (stop 51: one point in steady shear under a held normal stress flowed at
+//   1.6–2.1× the live cell's friction when its kept cell was servoed, within 8 % of it when caught
+//   up). The catch-up is faster than the point moved (a re-anchoring every ~20 MPM steps of ~100
+//   DEM steps each); in fewer steps the cell is left more agitated and more of the points that
+//   follow go live (stop 51: at most 50 steps sent 18 % of the demo column's point-steps live, 200
+//   steps 12 %). A motion with no principal logarithm (a rotation by π) is replayed increment by
+//   increment at its own pace. The nearest snapshot serves only a point without a cell of its own,
+//   and is servoed.
 // - A servo that does not converge (max_servo_steps, or no progress: the point's stress lies beyond
 //   what the packing can carry, e.g. a surrogate state that drifted past the yield surface) leaves
 //   the cell at the nearest stress it could reach; the outcome says so, and the caller keeps that
