@@ -653,6 +653,12 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
     EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/warm_start"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("\"replay\""), std::string::npos) << e.what();
   }
+  try {
+    io::load_scene(write_scene("", R"(, "catch_up_steps": 0)"));
+    FAIL() << "a catch-up of no step was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/catch_up_steps"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
