@@ -68,8 +68,7 @@ class DemoTest(WorkflowTest):
         oedometric = elements["loadings"][0]
         for stress in ("final_run_Pa", "final_live_Pa", "final_floor_cell_Pa"):
             self.assertLess(oedometric[stress][1], -200)
-        # Shear under a held normal stress: the servo holds the live cells' mean σ_yy near −P (the
-        # surrogate's pressure answers too weakly to the servo's dilation for that: README), and each
+        # Shear under a held normal stress: the servo holds the live cells' mean σ_yy near −P, and each
         # law flows with a positive friction; the law's row has its error over the floor's.
         run(["/usr/bin/python3", WORKFLOWS / "audit" / "held_shear.py", self.out / "held", "--library", self.out / "lib",
              "--floor-cell", self.out / "floor_cell.json", "--pressures", "500", "--rates", "3", "--strain", "0.3",
