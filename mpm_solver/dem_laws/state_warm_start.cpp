@@ -79,7 +79,7 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
   return {std::move(cell), index, false, result, {}};
 }
 
-void StateWarmStart::catch_up(dem::DemCell& cell, const std::vector<KinematicIncrement>& motion,
+void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncrement> motion,
                               const LiveCellModel& model, CouplingCounters& counters) const {
   Mat2 F = Mat2::Identity();
   double elapsed = 0;

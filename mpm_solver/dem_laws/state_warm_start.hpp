@@ -40,6 +40,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "dem_sampler/cell/stress_servo.hpp"
@@ -74,7 +75,7 @@ struct WarmStartOutcome {
 // A point's own former cell and the point's increments since it handed the cell back.
 struct OwnCell {
   const dem::DemCell& cell;
-  std::vector<KinematicIncrement> motion;
+  std::span<const KinematicIncrement> motion;
 };
 
 class StateWarmStart {
@@ -98,7 +99,7 @@ class StateWarmStart {
   // Whether a cell in state `cell` with `bonds` initial bonds may start a point in state `point`.
   static bool not_more_damaged(const surrogate::PointState& cell, std::int64_t bonds, const surrogate::PointState& point);
   dem::StressServoResult servo(dem::DemCell& cell, const surrogate::PointState& target, const LiveCellModel& model) const;
-  void catch_up(dem::DemCell& cell, const std::vector<KinematicIncrement>& motion, const LiveCellModel& model,
+  void catch_up(dem::DemCell& cell, std::span<const KinematicIncrement> motion, const LiveCellModel& model,
                 CouplingCounters& counters) const;
 
   std::vector<StateSnapshot> snapshots_;

@@ -123,7 +123,7 @@ bool SurrogateLaw::start_cell(Point& p) {
   if (warm_start_ && p.history.size() > 1) {
     std::optional<OwnCell> own;
     if (p.parked)
-      own.emplace(OwnCell{*p.parked, {p.history.begin() + static_cast<std::ptrdiff_t>(p.parked_at), before_this_step}});
+      own.emplace(OwnCell{*p.parked, {p.history.data() + p.parked_at, p.history.size() - 1 - p.parked_at}});
     WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
     p.parked.reset();
     caught_up = outcome.own;
