@@ -83,6 +83,19 @@ class FlowTest(WorkflowTest):
         self.assertAlmostEqual(flow.stress_error(shuffled, ref), 0.0)
         self.assertAlmostEqual(flow.stress_error_nearest(shuffled, ref), 0.0)
 
+    def test_the_smoothed_stress_error_counts_a_smooth_difference_and_not_a_point_to_point_one(self):
+        xy = [[0.05 * i, 0.05 * j] for i in range(16) for j in range(16)]
+        uniform = np.tile([-1000.0, -2000.0, 300.0], (len(xy), 1))
+        ref = snapshot(xy, uniform)
+        # Averaging is linear: a field 10 % stronger everywhere is 10 % off after it too.
+        self.assertAlmostEqual(flow.smoothed_stress_error(snapshot(xy, 1.1 * uniform), ref), 0.1)
+        # The same mean stress put on every other row (0 and twice): 100 % off point by point, a
+        # small part of that over one spacing, most of it at the top and bottom rows.
+        rows = np.array([1.0 + (-1) ** j for i in range(16) for j in range(16)])
+        alternating = snapshot(xy, uniform * rows[:, None])
+        self.assertAlmostEqual(flow.stress_error(alternating, ref), 1.0)
+        self.assertLess(flow.smoothed_stress_error(alternating, ref), 0.15)
+
     def test_deposit_profile_is_the_highest_point_per_column(self):
         s = snapshot([[0.05, 0.1], [0.05, 0.3], [0.15, 0.2], [0.35, 0.05]])
         np.testing.assert_allclose(flow.deposit_profile(s, [0, 0.1, 0.2, 0.3, 0.4]), [0.3, 0.2, 0.0, 0.05])

@@ -16,7 +16,7 @@ by every library run. Runs on the scene's own library (variants.py, "enriched") 
 the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
 Runs already finished in OUT/runs/ are kept (delete them to rerun).
 Errors against the reference, at their common output times (plotting/run_compare.py): front, final
-runout, stress field, deposit profile and the bulk's advance (95 % mass edge, centroid); the front,
+runout, stress field (point by point and smoothed over a point spacing), deposit profile and the bulk's advance (95 % mass edge, centroid); the front,
 stress, deposit and bulk errors also over those of the noise-floor run (variants.NOISE_FLOOR: live
 on a cell packed with another seed), when the set has it.
 A run that stops before the end (its error in the column `failed`) is compared up to where it stopped.
@@ -89,7 +89,8 @@ def write_scene(name, spec, library, build, args):
 
 # The errors stated against the noise floor: each divided by the same error of the live run on a cell
 # packed with another seed, so that 1 means "as far from live as another equally good live run".
-ERRORS_AGAINST_NOISE = ("front_rel_err", "stress_rel_l2", "deposit_rms_m", "mass_edge_rel_err", "centroid_rel_err")
+ERRORS_AGAINST_NOISE = ("front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m", "mass_edge_rel_err",
+                        "centroid_rel_err")
 
 
 def over_noise_floor(row, noise_row):

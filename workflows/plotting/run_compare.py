@@ -1,7 +1,8 @@
 """Running a scene for a study, timed and resumable, and its errors against a reference run of the
 same scene: front = worst relative runout error (rows with a reference runout above 1 cm), runout =
 relative error of the final runout (None when the reference ran out less than 1 cm), stress = mean relative L2 of the in-plane stress field (points
-matched by id, by nearest position when the discretisation differs), deposit = RMS difference of the
+matched by id, by nearest position when the discretisation differs), smoothed stress = the same of
+both fields averaged over one point spacing (flow.smoothed_stress_error), deposit = RMS difference of the
 free-surface height at the last common output [m], mass edge and centroid = relative errors of the
 advance of the 95 % mass edge and of the centroid there (None when the reference's moved less than 1 cm):
 the bulk measures, which converge with the grid where the front does not."""
@@ -81,6 +82,7 @@ def errors(folder, reference_folder):
         "front_rel_err": flow.front_error(series, ref_series),
         "runout_rel_err": final_runout_error(series, ref_series),
         "stress_rel_l2": float(np.mean([stress_error(snaps[t], ref_snaps[t]) for t in common])),
+        "stress_smoothed_rel_l2": float(np.mean([flow.smoothed_stress_error(snaps[t], ref_snaps[t]) for t in common])),
         "deposit_rms_m": flow.profile_error(final, ref_final, bins),
         "mass_edge_rel_err": mass_edge,
         "centroid_rel_err": centroid,
