@@ -22,6 +22,7 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
   if (!(settings_.servo_inertial_number > 0))
     throw std::invalid_argument("fallback.servo_inertial_number: expected a positive number");
   if (settings_.catch_up_steps < 1) throw std::invalid_argument("fallback.catch_up_steps: expected at least 1");
+  if (settings_.catch_up_legs < 1) throw std::invalid_argument("fallback.catch_up_legs: expected at least 1");
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
@@ -81,27 +82,37 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
 
 void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncrement> motion,
                               const LiveCellModel& model, CouplingCounters& counters) const {
-  Mat2 F = Mat2::Identity();
   double elapsed = 0;
-  for (const KinematicIncrement& increment : motion) {
-    F = increment.F * F;
-    elapsed += increment.dt;
-  }
+  for (const KinematicIncrement& increment : motion) elapsed += increment.dt;
   if (!(elapsed > 0)) return;
   const dem::Substepping& q = model.settings().substepping;
   const double dt = cell.time_step(q.q_t);
-  KinematicIncrement whole;
-  try {
-    whole = KinematicIncrement::of_deformation(F, std::min(elapsed, static_cast<double>(settings_.catch_up_steps) * dt));
-  } catch (const std::invalid_argument&) {  // turned by π: no single drive does it
-    for (const KinematicIncrement& increment : motion) {
-      model.advance(cell, increment, counters);
-      counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(increment.dt, dt, q.q_n));
+  const std::size_t legs = std::min(motion.size(), static_cast<std::size_t>(settings_.catch_up_legs));
+  const double speed_up = std::max(1.0, elapsed / (static_cast<double>(settings_.catch_up_steps) * dt));
+  const auto drive = [&](const KinematicIncrement& increment) {
+    model.advance(cell, increment, counters);
+    counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(increment.dt, dt, q.q_n));
+  };
+  std::size_t begin = 0;
+  for (std::size_t leg = 1; leg <= legs; ++leg) {
+    const std::span<const KinematicIncrement> part = motion.subspan(begin, motion.size() * leg / legs - begin);
+    begin += part.size();
+    Mat2 F = Mat2::Identity();
+    double duration = 0;
+    for (const KinematicIncrement& increment : part) {
+      F = increment.F * F;
+      duration += increment.dt;
     }
-    return;
+    if (!(duration > 0)) continue;
+    KinematicIncrement whole;
+    try {
+      whole = KinematicIncrement::of_deformation(F, duration / speed_up);
+    } catch (const std::invalid_argument&) {  // turned by π: no single drive does it
+      for (const KinematicIncrement& increment : part) drive(increment);
+      continue;
+    }
+    drive(whole);
   }
-  model.advance(cell, whole, counters);
-  counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(whole.dt, dt, q.q_n));
 }
 
 dem::StressServoResult StateWarmStart::servo(dem::DemCell& cell, const surrogate::PointState& target,

@@ -1,8 +1,10 @@
 // A live fallback that starts in the right state (issue 13, item 3): when a surrogate point goes
-// live or is re-anchored, its cell is not rebuilt by replaying the point's whole history (a cost that
-// grows with the run). A point that has had a cell takes it again, caught up on the point's motion
-// since; a point that has not gets a copy of the stored cell whose state is nearest to its own,
-// brought to its stress by the engine's stress servo (dem_sampler/cell/stress_servo.hpp).
+// live or is re-anchored, its cell is not rebuilt by replaying the point's whole history at its own
+// pace (a cost that grows with the run). A point that has had a cell takes it again, caught up on
+// the point's motion since; a point that has not takes the template, caught up on its whole motion
+// (first_cell "template", the default), or a copy of the stored cell whose state is nearest to its
+// own, brought to its stress by the engine's stress servo (first_cell "snapshot";
+// dem_sampler/cell/stress_servo.hpp).
 //
 // Promises:
 // - nearest() compares states on the state part of the surrogate's key: ln(p/p_ref), η cos 3θ, η
@@ -18,9 +20,15 @@
 //   in every component. The cell keeps the snapshot's φ, Z and D but for the servo's small strain.
 // - A point that has had a cell (a live spell or a re-anchoring) starts from it (`own`), however
 //   near a snapshot is: the cell carries the point's own fabric and broken bonds, which the state
-//   key does not see. That cell is not servoed but caught up: driven through the point's motion
-//   since it handed the cell back (the product F of those increments), at constant velocity
-//   gradient, in at most catch_up_steps DEM steps (the motion's own pace when it took fewer). The
+//   key does not see. That cell is not servoed but caught up: driven along the point's motion
+//   since it handed the cell back, sped up uniformly so that it takes catch_up_steps DEM steps
+//   (plus at most one per leg, each rounding its steps up; the motion's own pace when it took
+//   fewer). The increments are cut into at most
+//   catch_up_legs legs of consecutive increments, each driven at the constant velocity gradient of
+//   its product F: the cell ends at exactly the point's deformation, and it has gone there by the
+//   point's path, not by the straight line to its end (stop 52: a standing column's points, whose
+//   motion is the ringing after the gate, came to shear stresses of 50–90 Pa where live cells carry
+//   5–8 Pa when each catch-up took the straight line). The
 //   cell then carries the stress, φ, Z and D its packing develops under the point's motion, which
 //   the MPM knows exactly, where a servo would bring it to the stress the surrogate integrated,
 //   drifted or not: a dense cell servoed at rest carries a flowing point's drifted stress ratio,
@@ -29,9 +37,14 @@
 //   up). The catch-up is faster than the point moved (a re-anchoring every ~20 MPM steps of ~100
 //   DEM steps each); in fewer steps the cell is left more agitated and more of the points that
 //   follow go live (stop 51: at most 50 steps sent 18 % of the demo column's point-steps live, 200
-//   steps 12 %). A motion with no principal logarithm (a rotation by π) is replayed increment by
-//   increment at its own pace. The nearest snapshot serves only a point without a cell of its own,
-//   and is servoed.
+//   steps 12 %). A leg with no principal logarithm (a rotation by π) is replayed increment by
+//   increment at its own pace.
+// - A point without a cell of its own starts, with first_cell "template", from the template caught
+//   up on the point's whole motion (every point starts in the template's state), as if the template
+//   had been its own cell from the start: no servo, and no stress the surrogate integrated enters
+//   the cell (stop 52: a snapshot servoed to the point's stress kept the servo's residual, up to
+//   stress_tolerance, for as long as its point stood). With first_cell "snapshot" it starts from the
+//   nearest snapshot, servoed.
 // - A servo that does not converge (max_servo_steps, or no progress: the point's stress lies beyond
 //   what the packing can carry, e.g. a surrogate state that drifted past the yield surface) leaves
 //   the cell at the nearest stress it could reach; the outcome says so, and the caller keeps that
@@ -61,6 +74,10 @@ struct StateWarmStartSettings {
   long max_servo_steps = 20000;        // DEM steps
   bool replay_unconverged = false;     // an unconverged servo: replay the point's history instead
   long catch_up_steps = 200;            // DEM steps of a catch-up at most (above)
+  long catch_up_legs = 40;              // legs of a catch-up's path at most (above)
+  // A point's first cell: the template caught up on its motion, or the nearest snapshot, servoed.
+  enum class FirstCell { template_caught_up, nearest_snapshot };
+  FirstCell first_cell = FirstCell::template_caught_up;
 };
 
 struct WarmStartOutcome {

@@ -121,6 +121,11 @@ bool SurrogateLaw::start_cell(Point& p) {
   p.cell_is_exact = false;
   bool caught_up = false;
   if (warm_start_ && p.history.size() > 1) {
+    // Every point starts in the template's state: the template is its own cell until it has another.
+    if (!p.parked && settings_.state_warm_start.first_cell == StateWarmStartSettings::FirstCell::template_caught_up) {
+      p.parked = std::make_unique<dem::DemCell>(model_.new_cell());
+      p.parked_at = 0;
+    }
     std::optional<OwnCell> own;
     if (p.parked)
       own.emplace(OwnCell{*p.parked, {p.history.data() + p.parked_at, p.history.size() - 1 - p.parked_at}});
@@ -388,7 +393,8 @@ using common::Range;
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
 // (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback": {"return_after",
 // "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
-// "servo_inertial_number", "catch_up_steps", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
+// "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell": "template" | "snapshot", "unconverged":
+// "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "sample_span", "substepping", "q_h", "retiling",
                                       "fallback"};
@@ -403,7 +409,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
       material.integer_or("sample_span", static_cast<std::int64_t>(s.sample_span), 1, 1000));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
-                          "catch_up_steps", "unconverged"});
+                          "catch_up_steps", "catch_up_legs", "first_cell", "unconverged"});
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
     if (const auto mode = fallback->find("warm_start")) {
       const std::string name = mode->string();
@@ -415,6 +421,13 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
     w.max_servo_steps = fallback->integer_or("max_servo_steps", w.max_servo_steps, 1, 1000000000);
     w.servo_inertial_number = fallback->number_or("servo_inertial_number", w.servo_inertial_number, Range::positive());
     w.catch_up_steps = fallback->integer_or("catch_up_steps", w.catch_up_steps, 1, 1000000000);
+    w.catch_up_legs = fallback->integer_or("catch_up_legs", w.catch_up_legs, 1, 1000000000);
+    if (const auto first = fallback->find("first_cell")) {
+      const std::string name = first->string();
+      if (name != "template" && name != "snapshot") first->fail("expected \"template\" or \"snapshot\"");
+      w.first_cell = name == "template" ? StateWarmStartSettings::FirstCell::template_caught_up
+                                        : StateWarmStartSettings::FirstCell::nearest_snapshot;
+    }
     if (const auto unconverged = fallback->find("unconverged")) {
       const std::string name = unconverged->string();
       if (name != "keep" && name != "replay") unconverged->fail("expected \"keep\" or \"replay\"");
@@ -431,7 +444,9 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   try {
     link = std::make_unique<LibraryLink>(scene.folder / lib.string(), id, expected ? &*expected : nullptr);
     dataset = link->locked([&](db::Library& library) { return surrogate::reindex(library, s.sample_span); });
-    if (s.warm_start == SurrogateLawSettings::WarmStart::state) snapshots = link->state_snapshots();
+    if (s.warm_start == SurrogateLawSettings::WarmStart::state &&
+        s.state_warm_start.first_cell == StateWarmStartSettings::FirstCell::nearest_snapshot)
+      snapshots = link->state_snapshots();
   } catch (const db::StoreError& e) {
     lib.fail(e.what());
   }

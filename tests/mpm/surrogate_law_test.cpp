@@ -226,7 +226,7 @@ TEST(SurrogateLaw, TensionBeyondTheLibraryIsAnOffLibraryState) {
 // once, a point saw the samples of the points updated before it in the same step.)
 TEST(SurrogateLaw, AStepDoesNotDependOnTheOrderItsPointsAreUpdatedIn) {
   const std::vector<Mat2> motion = off_library_motion();
-  const double tolerance = median_tolerance(motion);
+  const double tolerance = 0.5 * median_tolerance(motion);
   const auto run = [&](bool reverse) {
     auto law = surrogate_law(settings(tolerance, 2));
     std::vector<Driver> points;
@@ -312,8 +312,9 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
       EXPECT_EQ(c.went_live, 0u) << "with no tolerance a re-anchored step is answered by the surrogate";
       EXPECT_EQ(c.live_updates, 0u);
       EXPECT_EQ(c.warm_start_increments, 0u);
-      // The first re-anchoring servos a snapshot; the later ones catch the point's own cell up.
-      EXPECT_GT(c.warm_start_servo_steps, 0u);
+      // The first re-anchoring catches the template up on the point's whole motion, the later ones
+      // the point's own cell on its motion since: nothing is servoed.
+      EXPECT_EQ(c.warm_start_servo_steps, 0u);
       EXPECT_GT(c.warm_start_catch_up_steps, 0u);
     }
   }
@@ -335,8 +336,8 @@ class MemoryArchive : public LawStateWriter, public LawStateReader {
   std::map<std::string, dem::CellState> cells;
 };
 
-// Bonds do not heal. Re-anchored on a servoed snapshot (a point without a cell of its own), a point
-// that has integrated more damage than the snapshot keeps its own D. Re-anchored on its own kept cell,
+// Bonds do not heal. Re-anchored on a servoed snapshot (a point without a cell of its own, with
+// first_cell "snapshot"), a point that has integrated more damage than the snapshot keeps its own D. Re-anchored on its own kept cell,
 // caught up on its motion, it takes that cell's D: the cell broke the bonds the motion breaks, where
 // the point's D is the surrogate's estimate (stop 51). The test library's paths break at most two
 // bonds, so the point's later damage is written into its saved state (column 12 of
@@ -369,6 +370,7 @@ TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
     if (!own) {
       edited.cells.erase("parked_0");
       edited.tables.at("surrogate_parked").clear();
+      s.state_warm_start.first_cell = StateWarmStartSettings::FirstCell::nearest_snapshot;
     }
     auto resumed = surrogate_law(s);
     Driver e = new_point(*resumed);
@@ -449,9 +451,9 @@ TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
 
 // A point that handed its cell back starts its next spell from that cell, caught up on the point's
 // motion since: the cell ends at the kept cell's deformation times that motion (the MPM's kinematics,
-// to round-off), in at most catch_up_steps DEM steps, and with the stress the same cell reaches driven
-// at the motion's own pace (the exact replay) within a quarter of the stress the motion adds: driven
-// faster, the cell is still quasi-static. With no motion since, the cell is the kept one.
+// to round-off), in at most catch_up_steps DEM steps (and one more per leg), and with the stress the
+// same cell reaches driven at the motion's own pace (the exact replay) within a quarter of the stress
+// the motion adds: driven faster, the cell is still quasi-static. With no motion since, the cell is the kept one.
 TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
   auto law = surrogate_law(settings(200));
   const StateWarmStart* warm = law->state_warm_start();
@@ -480,7 +482,9 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
     F = increment.F * F;
   }
   EXPECT_TRUE(caught.own);
-  EXPECT_LE(caught.catch_up.warm_start_catch_up_steps, static_cast<std::uint64_t>(StateWarmStartSettings{}.catch_up_steps));
+  const StateWarmStartSettings defaults;
+  EXPECT_LE(caught.catch_up.warm_start_catch_up_steps,
+            static_cast<std::uint64_t>(defaults.catch_up_steps + defaults.catch_up_legs));
   EXPECT_LT((caught.cell.deformation_gradient() - embed_plane_strain(F) * kept.deformation_gradient()).norm(), 1e-12);
   const auto sym = [](const dem::Mat3& m) { return dem::Mat3(0.5 * (m + m.transpose())); };
   const double added = (sym(replayed.stress()) - sym(kept.stress())).norm();
@@ -489,6 +493,66 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
               added, static_cast<unsigned long long>(caught.catch_up.warm_start_catch_up_steps), 30 * kDt / dem_step, off);
   ASSERT_GT(added, 0.0);
   EXPECT_LE(off, 0.25 * added);
+}
+
+// A small shear out and back (3e-3, as a standing column rings) ends where it began (the motion's F is
+// the identity), but a frictional packing does not: its contacts slip on the way. Caught up leg by
+// leg, the kept cell ends near the same cell replayed at the motion's own pace; caught up in one leg,
+// the straight line to where the motion ends, it is not moved at all and keeps the stress it had
+// (stop 52: a standing column's points so came to 50–90 Pa of shear where live cells carry 5–8 Pa).
+// (Not so for a large motion sped up a hundredfold: 3e-2 out and back over 100 increments ends
+// 1.6 kPa from the replay in legs, 0.5 kPa in one; README, "Stop 52".)
+TEST(SurrogateLaw, ACatchUpFollowsTheMotionsPathNotTheStraightLineToItsEnd) {
+  auto law = surrogate_law(settings(200));
+  const LiveCellModel model(*shared().cell, LiveDemSettings{});
+  CouplingCounters counters;
+  const dem::DemCell kept = model.new_cell();
+  std::vector<KinematicIncrement> motion(15, KinematicIncrement::of_velocity_gradient(Mat2{{0.0, 1.0}, {0.0, 0.0}}, kDt));
+  motion.insert(motion.end(), 15, KinematicIncrement::of_velocity_gradient(Mat2{{0.0, -1.0}, {0.0, 0.0}}, kDt));
+  dem::DemCell replayed = kept;
+  for (const KinematicIncrement& increment : motion) model.advance(replayed, increment, counters);
+  const auto sym = [](const dem::Mat3& m) { return dem::Mat3(0.5 * (m + m.transpose())); };
+  const double left = (sym(replayed.stress()) - sym(kept.stress())).norm();
+  const surrogate::PointState state{kept.stress(), 0, 0, 0};
+  std::vector<double> off;
+  for (const long legs : {StateWarmStartSettings{}.catch_up_legs, 1L}) {
+    StateWarmStartSettings one_or_more;
+    one_or_more.stress_tolerance = 200;
+    one_or_more.catch_up_legs = legs;
+    const StateWarmStart warm(shared().snapshots, law->index().constants(), law->index().scales(), one_or_more);
+    const WarmStartOutcome caught = warm.start(state, model, OwnCell{kept, motion});
+    EXPECT_LT((caught.cell.deformation_gradient() - kept.deformation_gradient()).norm(), 1e-12);
+    off.push_back((sym(caught.cell.stress()) - sym(replayed.stress())).norm());
+  }
+  std::printf("the round trip leaves %.0f Pa; caught up in legs the cell ends %.0f Pa from the replay, in one %.0f Pa\n",
+              left, off[0], off[1]);
+  ASSERT_GT(left, 0.0);
+  EXPECT_LT(off[0], 0.5 * left);
+  EXPECT_GT(off[1], 0.5 * left);
+}
+
+// Every point starts in the template's state, so a point that has had no cell yet goes live from
+// the template caught up on its whole motion (first_cell "template", the default): its cell is at
+// the point's deformation to round-off, nothing is servoed and nothing replayed at its own pace.
+TEST(SurrogateLaw, APointWithoutACellGoesLiveFromTheTemplateCaughtUpOnItsWholeMotion) {
+  const std::vector<Mat2> motion = off_library_motion();
+  auto law = surrogate_law(settings(median_tolerance(motion), 2));
+  Driver d = new_point(*law);
+  for (std::size_t k = 0; k < motion.size(); ++k) {
+    d(*law, motion[k], kDt);
+    if (k == 0 || law->source(d.slot) != StressSource::live) continue;  // step 0 starts from the template itself
+    const dem::DemCell* cell = law->live_cell(d.slot);
+    ASSERT_NE(cell, nullptr);
+    EXPECT_LT((cell->deformation_gradient() - embed_plane_strain(d.F) * shared().cell->deformation_gradient()).norm(),
+              1e-12);
+    const CouplingCounters c = law->point_counters(d.slot);
+    EXPECT_EQ(c.went_live, 1u);
+    EXPECT_GT(c.warm_start_catch_up_steps, 0u);
+    EXPECT_EQ(c.warm_start_servo_steps, 0u);
+    EXPECT_EQ(c.warm_start_increments, 0u);
+    return;
+  }
+  FAIL() << "the point never went live after its first step";
 }
 
 // Along a motion the library does not cover, a point that goes live starts from a servoed snapshot:
@@ -500,6 +564,7 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
 TEST(SurrogateLaw, APointGoesLiveFromAServoedSnapshotWithoutReplayOrJump) {
   const std::vector<Mat2> motion = off_library_motion();
   SurrogateLawSettings s = settings(median_tolerance(motion), 2);
+  s.state_warm_start.first_cell = StateWarmStartSettings::FirstCell::nearest_snapshot;
   s.state_warm_start.stress_tolerance = 200;
   const double tolerance = s.state_warm_start.stress_tolerance;
   auto law = surrogate_law(s);
@@ -653,12 +718,23 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
     EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/warm_start"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("\"replay\""), std::string::npos) << e.what();
   }
-  try {
-    io::load_scene(write_scene("", R"(, "catch_up_steps": 0)"));
-    FAIL() << "a catch-up of no step was accepted";
-  } catch (const common::InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/catch_up_steps"), std::string::npos) << e.what();
+  const std::pair<const char*, const char*> refused[] = {{R"(, "catch_up_steps": 0)", "/fallback/catch_up_steps"},
+                                                          {R"(, "catch_up_legs": 0)", "/fallback/catch_up_legs"},
+                                                          {R"(, "first_cell": "nearest")", "/fallback/first_cell"}};
+  for (const auto& [fallback, named] : refused) {
+    try {
+      io::load_scene(write_scene("", fallback));
+      FAIL() << fallback << " was accepted";
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("/materials/0") + named), std::string::npos) << e.what();
+    }
   }
+  // A point's first cell is the template caught up by default; the library's snapshots are read only
+  // for first_cell "snapshot".
+  EXPECT_EQ(law.state_warm_start()->size(), 1u);
+  const io::Scene from_snapshots = io::load_scene(write_scene("", R"(, "first_cell": "snapshot")"));
+  EXPECT_EQ(dynamic_cast<const SurrogateLaw&>(from_snapshots.solver->law(0)).state_warm_start()->size(),
+            shared().snapshots.size() + 1);
 }
 
 }  // namespace
