@@ -500,8 +500,8 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
 // leg, the kept cell ends near the same cell replayed at the motion's own pace; caught up in one leg,
 // the straight line to where the motion ends, it is not moved at all and keeps the stress it had
 // (stop 52: a standing column's points so came to 50–90 Pa of shear where live cells carry 5–8 Pa).
-// (Not so for a large motion sped up a hundredfold: 3e-2 out and back over 100 increments ends
-// 1.6 kPa from the replay in legs, 0.5 kPa in one; README, "Stop 52".)
+// (Not so for a large motion sped up: 3e-2 out and back over 30 increments ends 0.98 kPa from the
+// replay in legs, 0.82 kPa in one; README, "Stop 52".)
 TEST(SurrogateLaw, ACatchUpFollowsTheMotionsPathNotTheStraightLineToItsEnd) {
   auto law = surrogate_law(settings(200));
   const LiveCellModel model(*shared().cell, LiveDemSettings{});
