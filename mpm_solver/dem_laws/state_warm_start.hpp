@@ -23,13 +23,12 @@
 //   key does not see. That cell is not servoed but caught up: driven along the point's motion
 //   since it handed the cell back, sped up uniformly so that it takes catch_up_steps DEM steps
 //   (plus at most one per leg, each rounding its steps up; the motion's own pace when it took
-//   fewer). The increments are cut into at most
-//   catch_up_legs legs of consecutive increments, each driven at the constant velocity gradient of
-//   its product F: the cell ends at exactly the point's deformation, and it has gone there by the
-//   point's path, not by the straight line to its end (stop 52: a standing column's points, whose
-//   motion is the ringing after the gate, came to shear stresses of 50–90 Pa where live cells carry
-//   5–8 Pa when each catch-up took the straight line). The
-//   cell then carries the stress, φ, Z and D its packing develops under the point's motion, which
+//   fewer). The increments are cut into at most catch_up_legs legs of consecutive increments, each
+//   driven at the constant velocity gradient of its product F: the cell ends at exactly the point's
+//   deformation, and it has gone there by the point's path, not by the straight line to its end
+//   (stop 52: a standing column's points, whose motion is the ringing after the gate, came to shear
+//   stresses of 50–90 Pa where live cells carry 5–8 Pa when each catch-up took the straight line).
+//   The cell then carries the stress, φ, Z and D its packing develops under the point's motion, which
 //   the MPM knows exactly, where a servo would bring it to the stress the surrogate integrated,
 //   drifted or not: a dense cell servoed at rest carries a flowing point's drifted stress ratio,
 //   q/p up to 1.25 (stop 51: one point in steady shear under a held normal stress flowed at

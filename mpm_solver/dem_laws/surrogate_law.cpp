@@ -391,10 +391,11 @@ using common::JsonNode;
 using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
-// (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback": {"return_after",
-// "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance], "max_servo_steps",
-// "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell": "template" | "snapshot", "unconverged":
-// "keep" | "replay"}, and the "substepping", "q_h" and "retiling" of every DEM-backed law.
+// (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback":
+// {"return_after", "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance],
+// "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell":
+// "template" | "snapshot", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and
+// "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "sample_span", "substepping", "q_h", "retiling",
                                       "fallback"};

@@ -12,12 +12,11 @@
 //   re-anchored: a cell is started as for a live spell (below: the point's own former cell, or the
 //   template, caught up on the point's motion), the point takes that cell's state (σ, φ, Z and D;
 //   from a servoed snapshot, its D only when higher than the point's: bonds do not heal) and keeps
-//   the cell for its next start, and the step is
-//   asked again from that state. No live step is run: the drift the budget guards against is a
-//   state no cell carries (stop 40: a column that stood because its points drifted to a strength
-//   no cell has), and the cell, driven through the point's motion, has not drifted. With warm_start
-//   "replay" the point goes live instead, and
-//   the replay ends the drift exactly.
+//   the cell for its next start, and the step is asked again from that state. No live step is run:
+//   the drift the budget guards against is a state no cell carries (stop 40: a column that stood
+//   because its points drifted to a strength no cell has), and the cell, driven through the point's
+//   motion, has not drifted. With warm_start "replay" the point goes live instead, and the replay
+//   ends the drift exactly.
 // - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.
@@ -28,8 +27,8 @@
 //   template's paths, and the template itself), brought to the point's stress by the stress servo.
 //   The point then carries the cell's state, σ, φ, Z and D; a servo that does not converge leaves
 //   the stress the packing could reach (or, with unconverged "replay", the point replays). With
-//   warm_start "replay", and on the point's first step, the cell is rebuilt by
-//   replaying the point's own increments (exact: the cell a live-law point would own). A live cell
+//   warm_start "replay", and on the point's first step, the cell is rebuilt by replaying the
+//   point's own increments (exact: the cell a live-law point would own). A live cell
 //   answers as in the live law (LiveCellModel). With tolerance 0 every step with stretching is live and
 //   starts from the template, so the law equals the live law to round-off.
 // - Every live step's response enters the index as a new sample at the end of its step (end_step,

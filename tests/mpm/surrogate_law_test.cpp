@@ -337,11 +337,11 @@ class MemoryArchive : public LawStateWriter, public LawStateReader {
 };
 
 // Bonds do not heal. Re-anchored on a servoed snapshot (a point without a cell of its own, with
-// first_cell "snapshot"), a point that has integrated more damage than the snapshot keeps its own D. Re-anchored on its own kept cell,
-// caught up on its motion, it takes that cell's D: the cell broke the bonds the motion breaks, where
-// the point's D is the surrogate's estimate (stop 51). The test library's paths break at most two
-// bonds, so the point's later damage is written into its saved state (column 12 of
-// "surrogate_points": slot, σ, φ, Z, then D).
+// first_cell "snapshot"), a point that has integrated more damage than the snapshot keeps its own D.
+// Re-anchored on its own kept cell, caught up on its motion, it takes that cell's D: the cell broke
+// the bonds the motion breaks, where the point's D is the surrogate's estimate (stop 51). The test
+// library's paths break at most two bonds, so the point's later damage is written into its saved
+// state (column 12 of "surrogate_points": slot, σ, φ, Z, then D).
 TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
   std::vector<Mat2> motion(20, off_library_motion().front());
   motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
@@ -453,7 +453,8 @@ TEST(SurrogateLaw, AStateWarmStartNeverStartsFromAMoreDamagedCell) {
 // motion since: the cell ends at the kept cell's deformation times that motion (the MPM's kinematics,
 // to round-off), in at most catch_up_steps DEM steps (and one more per leg), and with the stress the
 // same cell reaches driven at the motion's own pace (the exact replay) within a quarter of the stress
-// the motion adds: driven faster, the cell is still quasi-static. With no motion since, the cell is the kept one.
+// the motion adds: driven faster, the cell is still quasi-static. With no motion since, the cell is
+// the kept one.
 TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
   auto law = surrogate_law(settings(200));
   const StateWarmStart* warm = law->state_warm_start();
@@ -507,8 +508,9 @@ TEST(SurrogateLaw, ACatchUpFollowsTheMotionsPathNotTheStraightLineToItsEnd) {
   const LiveCellModel model(*shared().cell, LiveDemSettings{});
   CouplingCounters counters;
   const dem::DemCell kept = model.new_cell();
-  std::vector<KinematicIncrement> motion(15, KinematicIncrement::of_velocity_gradient(Mat2{{0.0, 1.0}, {0.0, 0.0}}, kDt));
-  motion.insert(motion.end(), 15, KinematicIncrement::of_velocity_gradient(Mat2{{0.0, -1.0}, {0.0, 0.0}}, kDt));
+  const Mat2 shear{{0.0, 1.0}, {0.0, 0.0}};
+  std::vector<KinematicIncrement> motion(15, KinematicIncrement::of_velocity_gradient(shear, kDt));
+  motion.insert(motion.end(), 15, KinematicIncrement::of_velocity_gradient(-shear, kDt));
   dem::DemCell replayed = kept;
   for (const KinematicIncrement& increment : motion) model.advance(replayed, increment, counters);
   const auto sym = [](const dem::Mat3& m) { return dem::Mat3(0.5 * (m + m.transpose())); };
@@ -524,7 +526,7 @@ TEST(SurrogateLaw, ACatchUpFollowsTheMotionsPathNotTheStraightLineToItsEnd) {
     EXPECT_LT((caught.cell.deformation_gradient() - kept.deformation_gradient()).norm(), 1e-12);
     off.push_back((sym(caught.cell.stress()) - sym(replayed.stress())).norm());
   }
-  std::printf("the round trip leaves %.0f Pa; caught up in legs the cell ends %.0f Pa from the replay, in one %.0f Pa\n",
+  std::printf("the round trip leaves %.0f Pa; caught up in legs the cell ends %.0f Pa from the replay, in one %.0f\n",
               left, off[0], off[1]);
   ASSERT_GT(left, 0.0);
   EXPECT_LT(off[0], 0.5 * left);
