@@ -95,6 +95,9 @@ class FlowTest(WorkflowTest):
         alternating = snapshot(xy, uniform * rows[:, None])
         self.assertAlmostEqual(flow.stress_error(alternating, ref), 1.0)
         self.assertLess(flow.smoothed_stress_error(alternating, ref), 0.15)
+        # Averaged a few positions at a time, the same to round-off.
+        np.testing.assert_allclose(flow.smoothed_stress(alternating, ref.xy, 0.05, block=7),
+                                   flow.smoothed_stress(alternating, ref.xy, 0.05), rtol=1e-12)
 
     def test_deposit_profile_is_the_highest_point_per_column(self):
         s = snapshot([[0.05, 0.1], [0.05, 0.3], [0.15, 0.2], [0.35, 0.05]])

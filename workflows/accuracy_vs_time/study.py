@@ -16,9 +16,10 @@ by every library run. Runs on the scene's own library (variants.py, "enriched") 
 the template alone, enriched by the `enriching` run (rebuilt from scratch unless that run finished).
 Runs already finished in OUT/runs/ are kept (delete them to rerun).
 Errors against the reference, at their common output times (plotting/run_compare.py): front, final
-runout, stress field (point by point and smoothed over a point spacing), deposit profile and the bulk's advance (95 % mass edge, centroid); the front,
-stress, deposit and bulk errors also over those of the noise-floor run (variants.NOISE_FLOOR: live
-on a cell packed with another seed), when the set has it.
+runout, stress field (point by point and smoothed over a point spacing), deposit profile and the
+bulk's advance (95 % mass edge, centroid); the front, stress, deposit and bulk errors also over those
+of the noise-floor run (variants.NOISE_FLOOR: live on a cell packed with another seed), when the set
+has it.
 A run that stops before the end (its error in the column `failed`) is compared up to where it stopped.
 Writes OUT/results.csv, OUT/results.md, OUT/pareto.png and OUT/study.json.
 """

@@ -51,12 +51,17 @@ def stress_error_nearest(snapshot, reference):
     return float(np.linalg.norm(snapshot.in_plane_stress() - b) / norm) if norm > 0 else float("nan")
 
 
-def smoothed_stress(snapshot, at, width):
+def smoothed_stress(snapshot, at, width, block=512):
     """The in-plane stress of `snapshot` (n × 3: σ_xx, σ_yy, σ_xy) averaged at the positions `at` over
-    a Gaussian of standard deviation `width` [m]."""
-    d2 = ((np.asarray(at)[:, None, :] - snapshot.xy[None, :, :]) ** 2).sum(axis=-1)
-    weights = np.exp(-d2 / (2 * width ** 2))
-    return weights @ snapshot.in_plane_stress() / weights.sum(axis=1)[:, None]
+    a Gaussian of standard deviation `width` [m]; `block` positions at a time, so that memory stays
+    linear in the points."""
+    at, stress = np.asarray(at, dtype=float), snapshot.in_plane_stress()
+    averaged = np.empty((len(at), 3))
+    for start in range(0, len(at), block):
+        d2 = ((at[start:start + block, None, :] - snapshot.xy[None, :, :]) ** 2).sum(axis=-1)
+        weights = np.exp(-d2 / (2 * width ** 2))
+        averaged[start:start + block] = weights @ stress / weights.sum(axis=1)[:, None]
+    return averaged
 
 
 def smoothed_stress_error(snapshot, reference):

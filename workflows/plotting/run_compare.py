@@ -1,9 +1,10 @@
 """Running a scene for a study, timed and resumable, and its errors against a reference run of the
 same scene: front = worst relative runout error (rows with a reference runout above 1 cm), runout =
-relative error of the final runout (None when the reference ran out less than 1 cm), stress = mean relative L2 of the in-plane stress field (points
-matched by id, by nearest position when the discretisation differs), smoothed stress = the same of
-both fields averaged over one point spacing (flow.smoothed_stress_error), deposit = RMS difference of the
-free-surface height at the last common output [m], mass edge and centroid = relative errors of the
+relative error of the final runout (None when the reference ran out less than 1 cm), stress = mean
+relative L2 of the in-plane stress field (points matched by id, by nearest position when the
+discretisation differs), smoothed stress = the same of both fields averaged over one point spacing
+(flow.smoothed_stress_error), deposit = RMS difference of the free-surface height at the last common
+output [m], mass edge and centroid = relative errors of the
 advance of the 95 % mass edge and of the centroid there (None when the reference's moved less than 1 cm):
 the bulk measures, which converge with the grid where the front does not."""
 import json
