@@ -65,12 +65,12 @@ std::size_t StateWarmStart::nearest(const surrogate::PointState& state) const {
 }
 
 WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const LiveCellModel& model,
-                                       const std::optional<OwnCell>& own) const {
+                                       std::optional<OwnCell> own) const {
   // The point's own cell whenever it has one: the state key's distance does not tell how far a
   // foreign packing is from the point's (a snapshot nearer in key than the own cell needed 7× its
   // servo steps, stop 46).
   if (own) {
-    WarmStartOutcome outcome{own->cell, 0, true, {}, {}};
+    WarmStartOutcome outcome{std::move(own->cell), 0, true, {}, {}};
     catch_up(outcome.cell, own->motion, model, outcome.catch_up);
     return outcome;
   }

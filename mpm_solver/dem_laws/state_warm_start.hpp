@@ -88,9 +88,10 @@ struct WarmStartOutcome {
   CouplingCounters catch_up;
 };
 
-// A point's own former cell and the point's increments since it handed the cell back.
+// A point's own former cell (handed over: the start continues it) and the point's increments since
+// it handed the cell back.
 struct OwnCell {
-  const dem::DemCell& cell;
+  dem::DemCell cell;
   std::span<const KinematicIncrement> motion;
 };
 
@@ -105,7 +106,7 @@ class StateWarmStart {
   const StateSnapshot& snapshot(std::size_t i) const { return snapshots_[i]; }
   std::size_t nearest(const surrogate::PointState& state) const;
   WarmStartOutcome start(const surrogate::PointState& state, const LiveCellModel& model,
-                         const std::optional<OwnCell>& own = std::nullopt) const;
+                         std::optional<OwnCell> own = std::nullopt) const;
 
  private:
   static constexpr std::size_t kStateFeatures = 6;  // the leading, loading-free entries of the key

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <string>
 
@@ -121,16 +122,16 @@ bool SurrogateLaw::start_cell(Point& p) {
   p.cell_is_exact = false;
   bool caught_up = false;
   if (warm_start_ && p.history.size() > 1) {
-    // Every point starts in the template's state: the template is its own cell until it has another.
-    if (!p.parked && settings_.state_warm_start.first_cell == StateWarmStartSettings::FirstCell::template_caught_up) {
-      p.parked = std::make_unique<dem::DemCell>(model_.new_cell());
-      p.parked_at = 0;
-    }
+    const auto motion_since = [&](std::size_t seen) {
+      return std::span<const KinematicIncrement>(p.history.data() + seen, p.history.size() - 1 - seen);
+    };
     std::optional<OwnCell> own;
     if (p.parked)
-      own.emplace(OwnCell{*p.parked, {p.history.data() + p.parked_at, p.history.size() - 1 - p.parked_at}});
-    WarmStartOutcome outcome = warm_start_->start(p.state, model_, own);
+      own.emplace(OwnCell{std::move(*p.parked), motion_since(p.parked_at)});
+    else if (settings_.state_warm_start.first_cell == StateWarmStartSettings::FirstCell::template_caught_up)
+      own.emplace(OwnCell{model_.new_cell(), motion_since(0)});  // every point starts in the template's state
     p.parked.reset();
+    WarmStartOutcome outcome = warm_start_->start(p.state, model_, std::move(own));
     caught_up = outcome.own;
     p.counters += outcome.catch_up;
     p.counters.warm_start_servo_steps += static_cast<std::uint64_t>(outcome.servo.steps);
