@@ -90,8 +90,8 @@ def write_scene(name, spec, library, build, args):
 
 # The errors stated against the noise floor: each divided by the same error of the live run on a cell
 # packed with another seed, so that 1 means "as far from live as another equally good live run".
-ERRORS_AGAINST_NOISE = ("front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m", "mass_edge_rel_err",
-                        "centroid_rel_err")
+ERRORS_AGAINST_NOISE = ("front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m",
+                        "mass_edge_rel_err", "centroid_rel_err")
 
 
 def over_noise_floor(row, noise_row):

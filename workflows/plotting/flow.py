@@ -73,7 +73,9 @@ def smoothed_stress_error(snapshot, reference):
     width = reference.spacing()
     b = smoothed_stress(reference, reference.xy, width)
     norm = np.linalg.norm(b)
-    return float(np.linalg.norm(smoothed_stress(snapshot, reference.xy, width) - b) / norm) if norm > 0 else float("nan")
+    if norm == 0:
+        return float("nan")
+    return float(np.linalg.norm(smoothed_stress(snapshot, reference.xy, width) - b) / norm)
 
 
 def deposit_profile(snapshot, bins):
