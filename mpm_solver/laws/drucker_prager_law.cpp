@@ -21,8 +21,17 @@ DruckerPragerLaw::DruckerPragerLaw(double density, DruckerPragerParameters param
     throw std::invalid_argument("friction_angle: expected an angle in [0, 90) degrees");
   if (!(parameters_.cohesion >= 0) || !std::isfinite(parameters_.cohesion))
     throw std::invalid_argument("cohesion: expected a number >= 0, got " + std::to_string(parameters_.cohesion));
-  eta_ = std::sin(phi);
-  xi_ = std::cos(phi);
+  const double psi = parameters_.dilatancy_angle;
+  if (!(psi >= 0 && psi <= phi))
+    throw std::invalid_argument("dilatancy_angle: expected an angle in [0, friction_angle = " +
+                                std::to_string(phi * 180 / std::numbers::pi) + "] degrees");
+  if (psi > 0 && parameters_.rheology)
+    throw std::invalid_argument("inertial_rheology: only with dilatancy_angle 0");
+  // The plane-strain Mohr–Coulomb match of the header.
+  eta_bar_ = std::sin(psi) / std::sqrt(1 + std::sin(psi) * std::sin(psi) / 3);
+  const double root = std::sqrt(1 - eta_bar_ * eta_bar_ / 3);
+  eta_ = std::sin(phi) / (root + eta_bar_ * std::sin(phi) / 3);
+  xi_ = std::cos(phi) * (1 - eta_ * eta_bar_ / 3) / root;
   const double apex = eta_ > 0 ? xi_ * parameters_.cohesion / eta_ : std::numeric_limits<double>::infinity();
   if (!(parameters_.tensile_strength >= 0 && parameters_.tensile_strength <= apex))
     throw std::invalid_argument("tensile_strength: expected a number in [0, " + std::to_string(apex) +
@@ -47,10 +56,17 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) co
   if (j2 > static_limit * static_limit) {
     const double tau = std::sqrt(j2);
     double limit = static_limit;
+    const double g = parameters_.elasticity.shear_modulus();
     if (parameters_.rheology && p > 0) {
       // Flowing: the strength grows with the rate of the flow it relaxes (seed §2.2's I).
-      const double g = parameters_.elasticity.shear_modulus();
       limit = tau - g * dt * parameters_.rheology->plastic_shear_rate(tau - static_limit, eta_, p, g, dt);
+    } else if (eta_bar_ > 0 && static_limit > 0) {
+      // Dilating as it flows: the pressure rises with the plastic volume change while the deviator
+      // falls, both by the same Δλ, until the stress is on the cone.
+      const double bulk = parameters_.elasticity.lame_lambda() + 2 * g / 3;
+      const double delta_lambda = (tau - static_limit) / (g + bulk * eta_ * eta_bar_);
+      p += bulk * eta_bar_ * delta_lambda;
+      limit = tau - g * delta_lambda;
     }
     scale = limit / tau;
   }
@@ -67,11 +83,12 @@ void DruckerPragerLaw::update(std::size_t, const KinematicIncrement& increment, 
 namespace {
 
 // {"law": "drucker_prager", "density": ρ, "young": E, "poisson": ν, "friction_angle": φ [degrees],
-//  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0),
+//  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0), "dilatancy_angle": ψ [degrees] (0),
 //  "inertial_rheology": {"mu_2": μ_2, "inertial_number_0": I_0, "grain_diameter": d [m],
 //                        "grain_density": ρ_s [kg/m³]} (none: rate-independent)}
 constexpr std::string_view kKeys[] = {"name",     "law",      "density",          "young",           "poisson",
-                                      "friction_angle", "cohesion", "tensile_strength", "inertial_rheology"};
+                                      "friction_angle", "cohesion", "tensile_strength", "inertial_rheology",
+                                      "dilatancy_angle"};
 
 InertialRheology read_rheology(const common::JsonNode& node) {
   using common::Range;
@@ -88,6 +105,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   p.cohesion = material.number_or("cohesion", 0, Range::at_least(0));
   p.tensile_strength = material.number_or("tensile_strength", 0, Range::at_least(0));
   if (const auto rheology = material.find("inertial_rheology")) p.rheology = read_rheology(*rheology);
+  p.dilatancy_angle = material.number_or("dilatancy_angle", 0, Range::between(0, 90, false, true)) * std::numbers::pi / 180;
   return common::at_node(material, [&] {
     return std::make_unique<DruckerPragerLaw>(material.number("density", Range::positive()), p);
   });

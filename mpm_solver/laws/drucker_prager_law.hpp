@@ -1,15 +1,26 @@
-// Drucker–Prager plasticity with cohesion and a tension cut-off, plane strain, no dilatancy.
-// Yield: sqrt(J2) ≤ η p + ξ c, p = -tr σ / 3, with η = sin φ, ξ = cos φ: the match to Mohr–Coulomb
-// for this return. Plastic flow is deviatoric and along s, so steady plane-strain flow (ε̇_zz = 0)
-// has s_zz = 0; then sqrt(J2) = (σ1 − σ3)/2 and p = (σ1 + σ3)/2, and the cone is Mohr–Coulomb's
-// (σ1 − σ3)/2 = sin φ (σ1 + σ3)/2 + c cos φ. (The match η = 3 tan φ / sqrt(9 + 12 tan² φ) belongs to
-// an associated, dilatant flow rule; with this return it flows at (σ1 − σ3)/(σ1 + σ3) = 0.48 instead
-// of sin 30° = 0.5.)
+// Drucker–Prager plasticity with cohesion and a tension cut-off, plane strain, with a dilatancy angle
+// ψ (default 0: no dilatancy).
+// Yield: sqrt(J2) ≤ η p + ξ c, p = -tr σ / 3. Plastic potential sqrt(J2) − η̄ p: the plastic strain
+// rate is λ̇ (s / (2 sqrt(J2)) + η̄ I / 3), so the material dilates at tr ε̇ᵖ = η̄ λ̇.
+// The constants match Mohr–Coulomb (φ, c, ψ) in steady plane-strain flow. There ε̇ᵖ_zz = 0 gives
+// s_zz = −(2/3) η̄ sqrt(J2), hence sqrt(J2) = t / sqrt(1 − η̄²/3) with t = (σ1 − σ3)/2, and the in-plane
+// dilatancy sin ψ = −(ε̇1 + ε̇3)/(ε̇1 − ε̇3) = η̄ / sqrt(1 − η̄²/3). Matching t = sin φ s + c cos φ
+// (s = −(σ1 + σ3)/2) and that dilatancy:
+//   η̄ = sin ψ / sqrt(1 + sin²ψ / 3),
+//   η = sin φ / (sqrt(1 − η̄²/3) + η̄ sin φ / 3),   ξ = cos φ (1 − η η̄ / 3) / sqrt(1 − η̄²/3).
+// With ψ = 0 this is η = sin φ, ξ = cos φ, purely deviatoric flow along s (steady plane-strain flow
+// then has s_zz = 0, sqrt(J2) = (σ1 − σ3)/2 and p = (σ1 + σ3)/2). With ψ = φ the flow is associated
+// and η = 3 tan φ / sqrt(9 + 12 tan²φ), the classic plane-strain match; the limit theorems of
+// plasticity (Chen 1975) hold only for that associated material. A material that flows without
+// dilatancy collapses at lower loads (Drescher & Detournay 1993, Géotechnique 43:443: along a
+// translational mechanism it behaves as the associated material of tan φ* = k tan φ, c* = k c,
+// k = cos ψ cos φ / (1 − sin ψ sin φ)).
 // Tension cut-off: the mean stress never exceeds the tensile strength T (p ≥ -T).
 // Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
-// radially onto the cone (zero dilatancy: plastic flow is purely deviatoric).
-// Optionally rate-dependent: with an InertialRheology the cone's friction is μ(I) from η = sin φ
-// = μ_s on, at the inertial number of the plastic shear rate (inertial_rheology.hpp).
+// onto the cone along the potential's gradient: sqrt(J2) = sqrt(J2)* − G Δλ and p = p* + K η̄ Δλ, with
+// Δλ = f* / (G + K η η̄) (radial at constant p when ψ = 0).
+// Optionally rate-dependent (ψ = 0 only): with an InertialRheology the cone's friction is μ(I) from η
+// = sin φ = μ_s on, at the inertial number of the plastic shear rate (inertial_rheology.hpp).
 #pragma once
 #include <optional>
 
@@ -24,6 +35,7 @@ struct DruckerPragerParameters {
   double cohesion = 0;          // c [Pa] ≥ 0
   double tensile_strength = 0;  // T [Pa], in [0, ξ c / η] (the apex of the cone)
   std::optional<InertialRheology> rheology;  // none: rate-independent
+  double dilatancy_angle = 0;   // ψ [rad], in [0, φ]
 };
 
 class DruckerPragerLaw : public ConstitutiveLaw {
@@ -44,7 +56,7 @@ class DruckerPragerLaw : public ConstitutiveLaw {
  private:
   double density_;
   DruckerPragerParameters parameters_;
-  double eta_, xi_;
+  double eta_, xi_, eta_bar_;
   std::size_t points_ = 0;
 };
 

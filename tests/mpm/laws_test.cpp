@@ -2,8 +2,10 @@
 // Drucker–Prager return mapping (cone, cohesion, tension cut-off).
 #include <gtest/gtest.h>
 
+#include <Eigen/Eigenvalues>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "mpm_solver/laws/drucker_prager_law.hpp"
 #include "mpm_solver/laws/elastic_law.hpp"
@@ -130,6 +132,70 @@ TEST(DruckerPrager, InertialRheologyParametersAreChecked) {
                std::invalid_argument);  // μ_2 below μ_s
   EXPECT_THROW(DruckerPragerLaw(1500, DruckerPragerParameters{{5e6, 0.3}, phi, 0, 0, InertialRheology{0.64, 0, 5e-4, 2450}}),
                std::invalid_argument);
+}
+
+// The plastic strain of a return, trial minus returned stress through the elastic compliance, in the
+// in-plane principal frame of the stress (ε1 along the most compressive axis) and out of plane.
+struct PlasticStrain {
+  double major = 0, minor = 0, zz = 0;
+};
+
+PlasticStrain plastic_strain(const Elasticity& e, const PointStress& trial, const PointStress& out) {
+  const double g = e.shear_modulus(), bulk = e.lame_lambda() + 2 * g / 3;
+  const double dp = pressure_of(trial) - pressure_of(out);  // Δσ_m = −Δp
+  const Mat2 ds = (trial.in_plane - out.in_plane) + dp * Mat2::Identity();  // in-plane deviator change
+  const Mat2 strain = ds / (2 * g) - dp / (3 * bulk) * Mat2::Identity();
+  const double zz = ((trial.zz - out.zz) + dp) / (2 * g) - dp / (3 * bulk);
+  const Eigen::SelfAdjointEigenSolver<Mat2> axes(out.in_plane);  // ascending: the most compressive first
+  const Mat2 along = axes.eigenvectors().transpose() * strain * axes.eigenvectors();
+  return {along(0, 0), along(1, 1), zz};
+}
+
+TEST(DruckerPrager, PlaneStrainFlowOnTheConeIsMohrCoulombsWithItsDilatancy) {
+  // Where the cone's plastic flow has no out-of-plane part (ε̇ᵖ_zz = 0, as in steady plane-strain
+  // flow), the stress must satisfy Mohr–Coulomb, (σ1 − σ3)/2 = sin φ (σ1 + σ3)/2 + c cos φ in
+  // compression-positive principal stresses, and the flow must dilate at the Mohr–Coulomb rate sin ψ =
+  // (ε1 + ε3)/(ε3 − ε1). The out-of-plane trial stress whose return has ε_zz = 0 is found by bisection,
+  // so the check does not assume the cone's constants.
+  const Elasticity e{1e6, 0.3};
+  const double c = 1000, degree = std::numbers::pi / 180;
+  for (const auto& [phi_deg, psi_deg] : {std::pair{30.0, 0.0}, {30.0, 10.0}, {30.0, 30.0}, {40.0, 20.0}}) {
+    SCOPED_TRACE(testing::Message() << "phi " << phi_deg << ", psi " << psi_deg);
+    const double phi = phi_deg * degree, psi = psi_deg * degree;
+    DruckerPragerParameters parameters{e, phi, c, 0, std::nullopt};
+    parameters.dilatancy_angle = psi;
+    const DruckerPragerLaw law(1000, parameters);
+    PointStress trial;
+    trial.in_plane << -2000, 3000, 3000, -12000;
+    const auto returned = [&](double zz) {
+      trial.zz = zz;
+      return law.return_map(trial, 1e-3);
+    };
+    double low = -30000, high = 10000;  // ε_zz of the return changes sign between them
+    ASSERT_LT(plastic_strain(e, trial, returned(low)).zz * plastic_strain(e, trial, returned(high)).zz, 0);
+    for (int k = 0; k < 200; ++k) {
+      const double mid = 0.5 * (low + high);
+      (plastic_strain(e, trial, returned(mid)).zz < 0) == (plastic_strain(e, trial, returned(low)).zz < 0) ? low = mid
+                                                                                                             : high = mid;
+    }
+    const PointStress out = returned(0.5 * (low + high));
+    const PlasticStrain flow = plastic_strain(e, trial, out);
+    const Eigen::SelfAdjointEigenSolver<Mat2> principal(out.in_plane);
+    const double sigma1 = -principal.eigenvalues()(0), sigma3 = -principal.eigenvalues()(1);
+    EXPECT_NEAR((sigma1 - sigma3) / 2, std::sin(phi) * (sigma1 + sigma3) / 2 + c * std::cos(phi), 1e-6 * c);
+    EXPECT_NEAR((flow.major + flow.minor) / (flow.minor - flow.major), std::sin(psi), 1e-6);
+    EXPECT_LT(std::abs(flow.zz), 1e-9 * std::abs(flow.minor - flow.major));
+  }
+}
+
+TEST(DruckerPrager, TheDilatancyAngleLiesBetweenZeroAndTheFrictionAngle) {
+  const double phi = 30 * std::numbers::pi / 180;
+  DruckerPragerParameters steeper{{1e6, 0.3}, phi, 1000, 0, std::nullopt};
+  steeper.dilatancy_angle = 31 * std::numbers::pi / 180;
+  EXPECT_THROW(DruckerPragerLaw(1000, steeper), std::invalid_argument);
+  DruckerPragerParameters rate_dependent{{5e6, 0.3}, std::asin(0.38), 0, 0, InertialRheology{0.64, 0.279, 5e-4, 2450}};
+  rate_dependent.dilatancy_angle = 5 * std::numbers::pi / 180;
+  EXPECT_THROW(DruckerPragerLaw(1500, rate_dependent), std::invalid_argument);
 }
 
 TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {

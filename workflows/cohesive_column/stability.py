@@ -8,6 +8,11 @@ steady plane strain, see drucker_prager_law.hpp), γ H_c / c = N_s tan(45° + φ
 - N_s = 4, Culmann's planar wedge through the toe, an upper bound on H_c (Co_c ≥ 0.144 at φ = 30°);
 - N_s = 3.83, the log-spiral mechanism of Chen (1975, Limit analysis and soil plasticity), the least
   upper bound (Co_c ≥ 0.151).
+Those theorems hold for an associated flow rule, the cone with `--dilatancy-angle` 30 (= φ). The
+study's sand flows without dilatancy (ψ = 0, the default), and such a material collapses at lower
+loads: along Culmann's translational wedge it behaves as the associated material of reduced strength
+(Drescher & Detournay 1993, `references`), Co_c = 0.178 at ψ = 0; the same reduction applied to Chen's
+rotational mechanism (0.186) is an approximation.
 A column released suddenly may fail a little above the static threshold (the gate's removal is an
 impact, not a quasi-static unloading), and the back wall sits at L0 from the face, beyond the wedge
 (0.577 H0 at φ = 30°) only for a < 1.73.
@@ -15,7 +20,7 @@ impact, not a quasi-static unloading), and the back wall sits at L0 from the fac
 A run stands when its front has moved less than STANDING × L0 by the end (8 √(H0/g) + 0.3 s).
 
   /usr/bin/python3 stability.py [OUT] [--build BUILD] [--aspect-ratio 1] [--cohesion-numbers 0.10 0.11 ... 0.20]
-                                [--cells 10 20 40]
+                                [--cells 10 20 40] [--dilatancy-angle 0]
 
 Writes OUT/stability.md, OUT/stability.json and OUT/stability.png (front displacement against Co).
 """
@@ -38,27 +43,42 @@ from plotting.vtu import read_run  # noqa: E402
 WIDTH = 0.2  # L0 [m]
 STANDING = 0.02  # front displacement / L0 below which the column stands
 PHI = math.radians(column_scene.FRICTION_ANGLE)
-PASSIVE = math.tan(math.pi / 4 + PHI / 2)
-BOUNDS = {"Culmann wedge (N_s = 4)": 1 / (4 * PASSIVE), "Chen log-spiral (N_s = 3.83)": 1 / (3.83 * PASSIVE)}
 
 
-def cohesive_scene(a, cohesion_number, h):
+def references(dilatancy_angle):
+    """The critical cohesion numbers Co_c = 1 / (N_s k tan(45° + φ*/2)) of the two mechanisms. The limit
+    theorems hold for an associated material (ψ = φ, k = 1, φ* = φ). A material that flows with less
+    dilatancy fails at lower loads: along a translational mechanism it behaves as the associated material
+    of tan φ* = k tan φ and c* = k c, k = cos ψ cos φ / (1 − sin ψ sin φ) (Drescher & Detournay 1993,
+    Géotechnique 43:443), which the same formulas then give (for ψ = 0, φ = 30°: k = 0.866, φ* = 26.6°)."""
+    psi = math.radians(dilatancy_angle)
+    k = math.cos(psi) * math.cos(PHI) / (1 - math.sin(psi) * math.sin(PHI))
+    passive = math.tan(math.pi / 4 + math.atan(k * math.tan(PHI)) / 2)
+    suffix = "" if dilatancy_angle == column_scene.FRICTION_ANGLE else f", Drescher–Detournay ψ = {dilatancy_angle:g}°"
+    return {f"Culmann wedge (N_s = 4){suffix}": 1 / (4 * k * passive),
+            f"Chen log-spiral (N_s = 3.83){suffix}": 1 / (3.83 * k * passive)}
+
+
+
+def cohesive_scene(a, cohesion_number, h, dilatancy_angle=0.0):
     scene = column_scene.scene(a, width=WIDTH, h=h)
     cohesion = cohesion_number * column_scene.DENSITY * 9.81 * a * WIDTH
     sand = scene["materials"][0]
     sand["cohesion"] = cohesion
+    if dilatancy_angle:
+        sand["dilatancy_angle"] = dilatancy_angle
     # The cone's apex ξ c / η: tension up to it, so the yield surface is Mohr–Coulomb's alone.
     sand["tensile_strength"] = cohesion * math.cos(PHI) / math.sin(PHI) * (1 - 1e-9)
     return scene
 
 
-def run(out, build, a, cohesion_number, cells):
+def run(out, build, a, cohesion_number, cells, dilatancy_angle=0.0):
     """One column; an interrupted study resumes: a run whose result.json is there for the same scene is
     not run again."""
     h = WIDTH / cells
     folder = out / f"a{a:g}_co{cohesion_number:g}_n{cells}"
     folder.mkdir(parents=True, exist_ok=True)
-    scene = json.dumps(cohesive_scene(a, cohesion_number, h))
+    scene = json.dumps(cohesive_scene(a, cohesion_number, h, dilatancy_angle))
     result = folder / "result.json"
     if result.exists() and (folder / "scene.json").read_text() == scene:
         return json.loads(result.read_text())
@@ -93,11 +113,15 @@ def main():
     parser.add_argument("--cohesion-numbers", type=float, nargs="+",
                         default=[round(0.10 + 0.01 * k, 2) for k in range(11)])
     parser.add_argument("--cells", type=int, nargs="+", default=[10, 20, 40], help="L0 / h")
+    parser.add_argument("--dilatancy-angle", type=float, default=0.0,
+                        help="ψ [degrees] of the cone's flow rule; = φ (30) is associated, the material of the limit theorems")
     args = parser.parse_args()
-    rows = [run(args.out, args.build.resolve(), args.aspect_ratio, co, n) for n in args.cells for co in args.cohesion_numbers]
+    rows = [run(args.out, args.build.resolve(), args.aspect_ratio, co, n, args.dilatancy_angle)
+            for n in args.cells for co in args.cohesion_numbers]
 
-    lines = [f"a = {args.aspect_ratio:g}, φ = {column_scene.FRICTION_ANGLE:g}°; limit analysis: "
-             + ", ".join(f"{k}: Co_c ≥ {v:.3f}" for k, v in BOUNDS.items()), "",
+    bounds = references(args.dilatancy_angle)
+    lines = [f"a = {args.aspect_ratio:g}, φ = {column_scene.FRICTION_ANGLE:g}°, ψ = {args.dilatancy_angle:g}°; "
+             "limit analysis: " + ", ".join(f"{k}: Co_c ≥ {v:.3f}" for k, v in bounds.items()), "",
              "| L0/h | Co | front ΔL/L0 | top drop / H0 | stands | CPU-s |", "|---|---|---|---|---|---|"]
     lines += [f"| {r['cells']} | {r['cohesion_number']:g} | {r['front']:.3f} | {r['top_drop']:.3f} | "
               f"{'yes' if r['front'] < STANDING else 'no'} | {r['cpu_s']:.0f} |" for r in rows]
@@ -110,13 +134,14 @@ def main():
     text = "\n".join(lines) + "\n"
     (args.out / "stability.md").write_text(text)
     (args.out / "stability.json").write_text(json.dumps({"runs": rows, "thresholds": thresholds,
-                                                         "bounds": BOUNDS, "standing": STANDING}, indent=2))
+                                                         "bounds": bounds, "standing": STANDING,
+                                                         "dilatancy_angle": args.dilatancy_angle}, indent=2))
     fig, ax = plt.subplots(figsize=(6, 3.8))
     for n in args.cells:
         sweep = [r for r in rows if r["cells"] == n]
         ax.semilogy([r["cohesion_number"] for r in sweep], [max(r["front"], 1e-4) for r in sweep], "o-",
                     label=f"L0/h = {n}")
-    for (name, value), style in zip(BOUNDS.items(), ("--", ":")):
+    for (name, value), style in zip(bounds.items(), ("--", ":")):
         ax.axvline(value, color="grey", linestyle=style, label=name)
     ax.axhline(STANDING, color="k", linewidth=0.6)
     finish_and_save(fig, ax, args.out / "stability.png", "cohesion number Co = c / (ρ g H0)",
