@@ -1,8 +1,8 @@
 """The cohesive column's stability (workflows/cohesive_column): below Culmann's kinematic bound
 (Co = 0.144 at φ = 30°) a mechanism exists whose dissipation is less than the work of gravity, so a
 column of the associated material, for which the limit theorems hold, must fall, and so must the
-study's sand, which flows without dilatancy and is weaker still (its reference, Drescher &
-Detournay's reduced strength, is 0.178); at twice the bound both stand."""
+study's sand, which flows without dilatancy and is weaker still (Radenkovic: it cannot outlast the
+associated material of its strength); at twice the bound both stand."""
 import json
 import math
 
@@ -23,8 +23,10 @@ class CohesiveColumnTest(WorkflowTest):
                 self.assertLess(strong["front"], result["standing"], "at twice the bound it stands")
                 self.assertEqual(result["thresholds"]["10"], {"fell_at": 0.1, "stood_at": 0.3})
                 self.assert_png(out / "stability.png")
-        self.assertGreater(json.loads((self.out / "psi0" / "stability.json").read_text())["bounds"]
-                           ["Culmann wedge (N_s = 4), Drescher–Detournay ψ = 0°"], 0.178)
+        bounds = json.loads((self.out / "psi0" / "stability.json").read_text())["bounds"]
+        self.assertAlmostEqual(bounds["Chen, associated: falls below"], 1 / (3.83 * math.sqrt(3)), places=12)
+        # c* = c cos 30°, tan φ* = sin 30°: 1 / (3.83 cos 30° tan(45° + atan(1/2)/2)) = 0.1863.
+        self.assertAlmostEqual(bounds["Chen, reduced by cos φ: stands above"], 0.1863, places=4)
 
 
 class LiveThresholdTest(WorkflowTest):

@@ -10,9 +10,8 @@ steady plane strain, see drucker_prager_law.hpp), γ H_c / c = N_s tan(45° + φ
   upper bound (Co_c ≥ 0.151).
 Those theorems hold for an associated flow rule, the cone with `--dilatancy-angle` 30 (= φ). The
 study's sand flows without dilatancy (ψ = 0, the default), and such a material collapses at lower
-loads: along Culmann's translational wedge it behaves as the associated material of reduced strength
-(Drescher & Detournay 1993, `references`), Co_c = 0.178 at ψ = 0; the same reduction applied to Chen's
-rotational mechanism (0.186) is an approximation.
+loads, between those of two associated materials (`references`): it falls below Chen's 0.151 and
+stands above about 0.186; along Culmann's wedge it fails at 0.178.
 A column released suddenly may fail a little above the static threshold (the gate's removal is an
 impact, not a quasi-static unloading), and the back wall sits at L0 from the face, beyond the wedge
 (0.577 H0 at φ = 30°) only for a < 1.73.
@@ -46,17 +45,26 @@ PHI = math.radians(column_scene.FRICTION_ANGLE)
 
 
 def references(dilatancy_angle):
-    """The critical cohesion numbers Co_c = 1 / (N_s k tan(45° + φ*/2)) of the two mechanisms. The limit
-    theorems hold for an associated material (ψ = φ, k = 1, φ* = φ). A material that flows with less
-    dilatancy fails at lower loads: along a translational mechanism it behaves as the associated material
-    of tan φ* = k tan φ and c* = k c, k = cos ψ cos φ / (1 − sin ψ sin φ) (Drescher & Detournay 1993,
-    Géotechnique 43:443), which the same formulas then give (for ψ = 0, φ = 30°: k = 0.866, φ* = 26.6°)."""
+    """{name: critical cohesion number Co_c = c / (ρ g H_c)} for a cone of dilatancy `dilatancy_angle`
+    [°], each from γ H_c / c = N_s tan(45° + φ/2) on a material (c, φ). The limit theorems hold for the
+    associated material (ψ = φ): Culmann's wedge and Chen's log-spiral bound it, a column below either
+    must fall. A non-associated one (ψ < φ) collapses between two associated materials (Radenkovic's
+    theorems): the one of the same (c, φ), which it cannot outlast (it falls below Chen's 0.151), and
+    the one of c* = c cos φ, tan φ* = sin φ, which it outlasts; Chen's mechanism on that one gives
+    0.186 at φ = 30°, about where such a column must stand. Along a translational mechanism it behaves
+    as the associated material of c* = k c, tan φ* = k tan φ, k = cos ψ cos φ / (1 − sin ψ sin φ)
+    (Davis 1968; Drescher & Detournay 1993, Géotechnique 43:443): Culmann's wedge on it, 0.178 at
+    ψ = 0."""
+    def co(n_s, k):
+        return 1 / (n_s * k * math.tan(math.pi / 4 + math.atan(k * math.tan(PHI)) / 2))
+
+    if dilatancy_angle == column_scene.FRICTION_ANGLE:
+        return {"Culmann wedge (N_s = 4)": co(4, 1), "Chen log-spiral (N_s = 3.83)": co(3.83, 1)}
     psi = math.radians(dilatancy_angle)
-    k = math.cos(psi) * math.cos(PHI) / (1 - math.sin(psi) * math.sin(PHI))
-    passive = math.tan(math.pi / 4 + math.atan(k * math.tan(PHI)) / 2)
-    suffix = "" if dilatancy_angle == column_scene.FRICTION_ANGLE else f", Drescher–Detournay ψ = {dilatancy_angle:g}°"
-    return {f"Culmann wedge (N_s = 4){suffix}": 1 / (4 * k * passive),
-            f"Chen log-spiral (N_s = 3.83){suffix}": 1 / (3.83 * k * passive)}
+    davis = math.cos(psi) * math.cos(PHI) / (1 - math.sin(psi) * math.sin(PHI))
+    return {"Chen, associated: falls below": co(3.83, 1),
+            f"Culmann wedge, Davis-reduced for ψ = {dilatancy_angle:g}°": co(4, davis),
+            "Chen, reduced by cos φ: stands above": co(3.83, math.cos(PHI))}
 
 
 
@@ -141,7 +149,7 @@ def main():
         sweep = [r for r in rows if r["cells"] == n]
         ax.semilogy([r["cohesion_number"] for r in sweep], [max(r["front"], 1e-4) for r in sweep], "o-",
                     label=f"L0/h = {n}")
-    for (name, value), style in zip(bounds.items(), ("--", ":")):
+    for (name, value), style in zip(bounds.items(), ("--", ":", "-.")):
         ax.axvline(value, color="grey", linestyle=style, label=name)
     ax.axhline(STANDING, color="k", linewidth=0.6)
     finish_and_save(fig, ax, args.out / "stability.png", "cohesion number Co = c / (ρ g H0)",
