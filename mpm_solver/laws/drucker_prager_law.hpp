@@ -11,10 +11,10 @@
 // With ψ = 0 this is η = sin φ, ξ = cos φ, purely deviatoric flow along s (steady plane-strain flow
 // then has s_zz = 0, sqrt(J2) = (σ1 − σ3)/2 and p = (σ1 + σ3)/2). With ψ = φ the flow is associated
 // and η = 3 tan φ / sqrt(9 + 12 tan²φ), the classic plane-strain match; the limit theorems of
-// plasticity (Chen 1975) hold only for that associated material. A material that flows without
-// dilatancy collapses at lower loads (Drescher & Detournay 1993, Géotechnique 43:443: along a
-// translational mechanism it behaves as the associated material of tan φ* = k tan φ, c* = k c,
-// k = cos ψ cos φ / (1 − sin ψ sin φ)).
+// plasticity (Chen 1975) hold only for that associated material. One that dilates less collapses at
+// lower loads, no lower than the associated material of c* = c cos φ, tan φ* = sin φ (Radenkovic);
+// along a translational mechanism it behaves as the associated material of tan φ* = k tan φ,
+// c* = k c, k = cos ψ cos φ / (1 − sin ψ sin φ) (Davis 1968; Drescher & Detournay 1993).
 // Tension cut-off: the mean stress never exceeds the tensile strength T (p ≥ -T).
 // Return mapping on the elastic trial stress: p is capped at -T, then the deviator is scaled back
 // onto the cone along the potential's gradient: sqrt(J2) = sqrt(J2)* − G Δλ and p = p* + K η̄ Δλ, with
