@@ -63,7 +63,7 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) co
     } else if (eta_bar_ > 0 && static_limit > 0) {
       // Dilating as it flows: the pressure rises with the plastic volume change while the deviator
       // falls, both by the same Δλ, until the stress is on the cone.
-      const double bulk = parameters_.elasticity.lame_lambda() + 2 * g / 3;
+      const double bulk = parameters_.elasticity.bulk_modulus();
       const double delta_lambda = (tau - static_limit) / (g + bulk * eta_ * eta_bar_);
       p += bulk * eta_bar_ * delta_lambda;
       limit = tau - g * delta_lambda;

@@ -19,6 +19,7 @@ struct Elasticity {
   double shear_modulus() const { return young / (2 * (1 + poisson)); }
   double lame_lambda() const { return young * poisson / ((1 + poisson) * (1 - 2 * poisson)); }
   double p_wave_modulus() const { return lame_lambda() + 2 * shear_modulus(); }
+  double bulk_modulus() const { return lame_lambda() + 2 * shear_modulus() / 3; }
 };
 
 // Throws std::invalid_argument naming the offending parameter.

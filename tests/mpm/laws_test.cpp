@@ -141,7 +141,7 @@ struct PlasticStrain {
 };
 
 PlasticStrain plastic_strain(const Elasticity& e, const PointStress& trial, const PointStress& out) {
-  const double g = e.shear_modulus(), bulk = e.lame_lambda() + 2 * g / 3;
+  const double g = e.shear_modulus(), bulk = e.bulk_modulus();
   const double dp = pressure_of(trial) - pressure_of(out);  // Δσ_m = −Δp
   const Mat2 ds = (trial.in_plane - out.in_plane) + dp * Mat2::Identity();  // in-plane deviator change
   const Mat2 strain = ds / (2 * g) - dp / (3 * bulk) * Mat2::Identity();
