@@ -145,6 +145,7 @@ void Solver::step(double dt) {
   if (settings_.homogeneous_drive) drive = servoed_drive(*settings_.homogeneous_drive, points_, dt, drive_integral_);
   timed(phase_times_.grid, [&] {
     update_grid(grid_, gravity_.at(time_));
+    if (settings_.channel_walls) apply_channel_walls(grid_, points_, stencils_, *settings_.channel_walls, dt);
     if (drive) impose_homogeneous_velocity(grid_, *drive);
   });
   timed(phase_times_.grid_to_particles, [&] {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "mpm_solver/core/channel_walls.hpp"
 #include "mpm_solver/core/constitutive_law.hpp"
 #include "mpm_solver/core/gravity.hpp"
 #include "mpm_solver/core/grid.hpp"
@@ -37,6 +38,9 @@ struct SolverSettings {
   // When set, each point's law is driven by the velocity gradient averaged over this length
   // (nonlocal_average.hpp): the regularization of softening materials.
   std::optional<NonlocalAverage> regularization;
+  // When set, the flow runs between two side walls parallel to its plane that take friction
+  // (channel_walls.hpp).
+  std::optional<ChannelWalls> channel_walls;
 };
 
 // Wall time spent in each part of the step [s], summed over steps.

@@ -154,8 +154,8 @@ Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
   const nlohmann::json doc = common::load_json_file(file);
   const JsonNode root(doc, file.filename().string());
   root.require_object();
-  root.allow_only({"grid", "time", "integration", "regularization", "effects", "gravity", "materials", "regions",
-                   "obstacles", "tracked_points", "audit"});
+  root.allow_only({"grid", "time", "integration", "regularization", "effects", "gravity", "channel_walls", "materials",
+                   "regions", "obstacles", "tracked_points", "audit"});
   const std::filesystem::path folder = file.parent_path();
 
   Scene scene;
@@ -197,14 +197,25 @@ Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
     regularization->allow_only({"nonlocal_length"});
     settings.regularization.emplace(regularization->number("nonlocal_length", Range::positive()));
   }
+  const auto effects = root.find("effects");
+  const bool channel_walls = effects && effects->boolean_or("channel_walls", false);
+  if (channel_walls != root.has("channel_walls"))
+    root.fail(channel_walls ? "effects.channel_walls is on but there is no \"channel_walls\" block"
+                            : "a \"channel_walls\" block needs effects.channel_walls");
+  if (channel_walls) {
+    const JsonNode walls = root.at("channel_walls", "an object with width and friction");
+    walls.allow_only({"width", "friction"});
+    settings.channel_walls.emplace(walls.number("width", Range::positive()), walls.number("friction", Range::at_least(0)));
+  }
   const JsonNode grid = root.at("grid", "an object with cell_size and cells");
   scene.solver = std::make_unique<Solver>(common::at_node(grid, [&] { return read_grid(grid); }), settings);
 
   bool gravity = false, boundary_friction = false;
   LawContext law_context{folder, {}, rank, ranks};
   DemEffects& dem_effects = law_context.effects;
-  if (const auto effects = root.find("effects")) {
-    effects->allow_only({"gravity", "boundary_friction", "cohesion", "kinetic_stress", "rolling_resistance"});
+  if (effects) {
+    effects->allow_only({"gravity", "boundary_friction", "channel_walls", "cohesion", "kinetic_stress",
+                         "rolling_resistance"});
     gravity = effects->boolean_or("gravity", false);
     boundary_friction = effects->boolean_or("boundary_friction", false);
     for (auto [name, flag] : {std::pair{"cohesion", &dem_effects.cohesion}, std::pair{"kinetic_stress", &dem_effects.kinetic_stress},

@@ -91,6 +91,19 @@ TEST(Scene, RegularizationSetsTheNonlocalLength) {
   EXPECT_DOUBLE_EQ(regularization->length(), 0.25);
 }
 
+TEST(Scene, ChannelWallsAreAnEffectWithTheirBlock) {
+  const std::string from = "\"effects\": {\"gravity\": true, \"boundary_friction\": true},";
+  std::string text = kScene;
+  EXPECT_FALSE(io::load_scene(write_file("plane.json", text)).solver->settings().channel_walls);
+  text.replace(text.find(from), from.size(),
+               "\"effects\": {\"gravity\": true, \"boundary_friction\": true, \"channel_walls\": true}, "
+               "\"channel_walls\": {\"width\": 0.2, \"friction\": 0.3},");
+  const auto walls = io::load_scene(write_file("flume.json", text)).solver->settings().channel_walls;
+  ASSERT_TRUE(walls);
+  EXPECT_DOUBLE_EQ(walls->width, 0.2);
+  EXPECT_DOUBLE_EQ(walls->friction, 0.3);
+}
+
 void expect_error(const std::string& from, const std::string& to, const std::string& message) {
   std::string text = kScene;
   const auto at = text.find(from);
@@ -139,6 +152,17 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "bad.json: /regularization/nonlocal_length: expected a positive number, got 0");
   expect_error(time, time + "\"regularization\": {\"length\": 0.1},",
                "bad.json: /regularization/length: unknown key; allowed keys here: nonlocal_length");
+  const std::string effects = "\"effects\": {\"gravity\": true, \"boundary_friction\": true},";
+  const std::string walls_on = "\"effects\": {\"gravity\": true, \"boundary_friction\": true, \"channel_walls\": true},";
+  expect_error(effects, walls_on, "bad.json: /: effects.channel_walls is on but there is no \"channel_walls\" block");
+  expect_error(effects, effects + "\"channel_walls\": {\"width\": 0.2, \"friction\": 0.3},",
+               "bad.json: /: a \"channel_walls\" block needs effects.channel_walls");
+  expect_error(effects, walls_on + "\"channel_walls\": {\"width\": 0, \"friction\": 0.3},",
+               "bad.json: /channel_walls/width: expected a positive number, got 0");
+  expect_error(effects, walls_on + "\"channel_walls\": {\"width\": 0.2, \"friction\": -1},",
+               "bad.json: /channel_walls/friction: expected a number >= 0, got -1");
+  expect_error(effects, walls_on + "\"channel_walls\": {\"width\": 0.2, \"mu\": 0.3},",
+               "bad.json: /channel_walls/mu: unknown key; allowed keys here: width, friction");
   expect_error("\"cells\": [10, 10]", "\"cells\": [100000, 100000]",
                "bad.json: /grid/cells: expected at most 20000000 cells in all (here n_x * n_y = 10000000000; use a "
                "coarser cell_size or a smaller domain), got an array of 2 entries");
