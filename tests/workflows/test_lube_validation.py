@@ -1,7 +1,7 @@
 """The Lube validation (workflows/lube_validation): the quick study runs the coarse a = 1 column to
 rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
-scene generator's column is what the study measures, with or without μ(I); a heap below its friction
-angle stands."""
+scene generator's column is what the study measures, with or without μ(I), and in a channel; a heap
+below its friction angle stands."""
 import json
 import math
 import shutil
@@ -47,6 +47,18 @@ class LubeValidationTest(WorkflowTest):
         run([BUILD / "mpm_solver" / "mpm_solver", out, "--out", self.out / "mu_i", "--threads", "1",
              "--set", "/time/end=0.03"])
         self.assertTrue((self.out / "mu_i" / "summary.json").exists())
+
+    def test_scene_in_a_channel(self):
+        out = self.out / "channel.json"
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "column_scene.py", out, "--aspect-ratio", "1",
+             "--channel-width", "0.2"])
+        scene = json.loads(out.read_text())
+        self.assertTrue(scene["effects"]["channel_walls"])
+        # The side walls take the back wall's friction unless told otherwise.
+        self.assertEqual(scene["channel_walls"], {"width": 0.2, "friction": scene["obstacles"][1]["friction"]})
+        run([BUILD / "mpm_solver" / "mpm_solver", out, "--out", self.out / "channel", "--threads", "1",
+             "--set", "/time/end=0.03"])
+        self.assertTrue((self.out / "channel" / "summary.json").exists())
 
     def test_heap_below_its_friction_angle_stands(self):
         """heap.py on a coarse 25° heap of the 30° sand: it prints its row, and the apex settles only

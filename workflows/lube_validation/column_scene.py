@@ -1,11 +1,14 @@
 """Scene of the planar cohesionless column collapse of Lube et al. (2005) for mpm_solver: a
 Drucker–Prager column (φ = 30°, c = 0, ρ = 1500 kg/m³, E = 5 MPa, ν = 0.3) of width L0 and height
 a L0 against a back wall, on a base with friction 0.5 (walls 0.3, as the example scenes), held by a
-gate removed at t = 0.02 s. The same setup as tests/mpm/granular_column.hpp (the CI test).
+gate removed at t = 0.02 s. The same setup as tests/mpm/granular_column.hpp (the CI test). With
+--channel-width, the column stands in a flume: two side walls W apart, parallel to the plane, whose
+friction (--wall-friction, default that of the back wall and the gate) acts on the out-of-plane stress
+(mpm_solver/core/channel_walls.hpp).
 
   python3 column_scene.py OUT.json --aspect-ratio A [--width L0] [--cell-size H] [--points-per-cell N]
                           [--cfl C] [--end T] [--transfer apic|pic|RATE|apic_flip:RATE]
-                          [--inertial-rheology]
+                          [--inertial-rheology] [--channel-width W [--wall-friction MU]]
 """
 import argparse
 import json
@@ -14,6 +17,7 @@ from pathlib import Path
 
 GATE_REMOVAL = 0.02  # [s]
 DENSITY, YOUNG, POISSON, FRICTION_ANGLE = 1500.0, 5e6, 0.3, 30.0
+BASE_FRICTION, WALL_FRICTION = 0.5, 0.3
 
 
 def lube_runout(a):
@@ -43,10 +47,10 @@ JOP_RHEOLOGY = {"mu_2": math.sin(math.radians(FRICTION_ANGLE)) + 0.26, "inertial
 
 
 def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANSFER, rheology=None,
-          material=None, p_wave=None, gate=GATE_REMOVAL, room=2):
+          material=None, p_wave=None, gate=GATE_REMOVAL, room=2, channel=None):
     """The column scene; `material` (named "sand") replaces the Drucker–Prager sand, and `p_wave`, its
     P-wave modulus, sets the stiffness of base and walls. The grid reaches `room` times Lube's runout
-    beyond the column."""
+    beyond the column. `channel` ({"width": W, "friction": μ_w}) puts it between side walls."""
     L0, H0 = width, a * width
     base = wall = 2 * h
     cells_x = math.ceil((wall + L0 * (1 + room * lube_runout(a)) + 2 * h) / h)
@@ -57,7 +61,7 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANS
     contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
     end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
     sand = material or drucker_prager(rheology=rheology)
-    return {
+    out = {
         "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
         "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
         "integration": {"transfer": transfer},
@@ -67,11 +71,20 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANS
         "regions": [{"material": "sand", "rectangle": {"min": [wall, base], "max": [wall + L0, base + H0]},
                      "points_per_cell": ppc}],
         "obstacles": [
-            {"line": [[-1, base], [cells_x * h + 1, base]], **contact(0.5)},
-            {"line": [[wall, base], [wall, top]], **contact(0.3)},
-            {"line": [[wall + L0, base], [wall + L0, top]], **contact(0.3), "remove_at": gate},
+            {"line": [[-1, base], [cells_x * h + 1, base]], **contact(BASE_FRICTION)},
+            {"line": [[wall, base], [wall, top]], **contact(WALL_FRICTION)},
+            {"line": [[wall + L0, base], [wall + L0, top]], **contact(WALL_FRICTION), "remove_at": gate},
         ],
     }
+    if channel:
+        out["effects"]["channel_walls"] = True
+        out["channel_walls"] = channel
+    return out
+
+
+def channel(width, friction=WALL_FRICTION):
+    """Side walls `width` apart for scene(), or None when width is None."""
+    return None if width is None else {"width": width, "friction": friction}
 
 
 def geometry(a, width=0.2, h=0.02, ppc=2):
@@ -101,9 +114,11 @@ def main():
                         help="apic, pic, a FLIP/PIC rate [1/s] or apic_flip:RATE (default apic_flip:5)")
     parser.add_argument("--inertial-rheology", action="store_true",
                         help="μ(I) with the rate dependence of Jop et al.'s glass beads (JOP_RHEOLOGY)")
+    parser.add_argument("--channel-width", type=float, help="side walls this far apart [m] (default: none)")
+    parser.add_argument("--wall-friction", type=float, default=WALL_FRICTION)
     args = parser.parse_args()
     s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer,
-              JOP_RHEOLOGY if args.inertial_rheology else None)
+              JOP_RHEOLOGY if args.inertial_rheology else None, channel=channel(args.channel_width, args.wall_friction))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(s, indent=2) + "\n")
 

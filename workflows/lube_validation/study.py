@@ -4,9 +4,11 @@
 cell and the time step. Beside the front (the farthest material point), the deposit's edges where it
 is 5, 10 and 15 % of H0 thick and its profile (deposit.py says why). The a = 1 h-series is run
 again with μ(I) friction (column_scene.JOP_RHEOLOGY), the rate dependence a constant-friction cone
-lacks. Runs mpm_solver on scenes from column_scene.py, one after another.
+lacks. Runs mpm_solver on scenes from column_scene.py, one after another. With --channel-width W the
+columns stand in a flume, between side walls W apart whose friction (--wall-friction) acts on the
+out-of-plane stress, and the study runs the a-series and the h-series only.
 
-  /usr/bin/python3 study.py [OUT] [--build BUILD] [--threads N] [--quick]
+  /usr/bin/python3 study.py [OUT] [--build BUILD] [--threads N] [--quick] [--channel-width W [--wall-friction MU]]
 
 Writes (OUT default: $GRAINBANK_OUT/lube_validation, i.e. build/out/lube_validation) OUT/<case>/
 (scene and run), OUT/results.json, OUT/results.md, OUT/runout.png and OUT/deposit.png (the a = 1
@@ -31,12 +33,14 @@ REST = 1e-4  # kinetic energy / its peak
 WIDTH = 0.2  # L0 [m]
 
 
-def cases(quick):
-    """(name, aspect ratio, h, points per cell, CFL, μ(I)) of the study."""
+def cases(quick, channel=False):
+    """(name, aspect ratio, h, points per cell, CFL, μ(I)) of the study (in a channel: the a- and h-series)."""
     if quick:
         return [("a1_h0.02_ppc2", 1.0, 0.02, 2, 0.3, False)]
     out = [(f"a{a:g}_h0.01_ppc2", a, 0.01, 2, 0.3, False) for a in (0.5, 1.0, 2.0, 3.0)]
     out += [(f"a{a:g}_h{h:g}_ppc2", a, h, 2, 0.3, False) for a in (1.0, 2.0) for h in (0.02, 0.005)]
+    if channel:
+        return out
     out += [(f"a1_h0.01_ppc{n}", 1.0, 0.01, n, 0.3, False) for n in (1, 3)]
     out += [(f"a1_h0.01_ppc2_cfl{c:g}", 1.0, 0.01, 2, c, False) for c in (0.15, 0.5)]
     out += [(f"a1_h{h:g}_ppc2_mu_i", 1.0, h, 2, 0.3, True) for h in (0.02, 0.01, 0.005)]
@@ -93,15 +97,16 @@ def measure(folder, a, h, ppc, gate=column_scene.GATE_REMOVAL, or_at_end=False, 
             "profile_time": profile_time}
 
 
-def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i):
+def run_case(out, build, threads, name, a, h, ppc, cfl, mu_i, channel=None):
     folder = out / name
-    scene = column_scene.scene(a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None)
+    scene = column_scene.scene(a, WIDTH, h, ppc, cfl, rheology=column_scene.JOP_RHEOLOGY if mu_i else None,
+                               channel=channel)
     cost = run_scene(folder, scene, build, threads)
     failed = cost.pop("failed")
     if failed:
         sys.exit(f"study.py: {name}: mpm_solver failed: {failed}")
-    return {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i, **cost,
-            **measure(folder, a, h, ppc)}
+    return {"case": name, "a": a, "h": h, "points_per_cell": ppc, "cfl": cfl, "inertial_rheology": mu_i,
+            "channel": channel, **cost, **measure(folder, a, h, ppc)}
 
 
 def table(results):
@@ -181,11 +186,14 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--quick", action="store_true")
+    parser.add_argument("--channel-width", type=float, help="side walls this far apart [m] (default: none)")
+    parser.add_argument("--wall-friction", type=float, default=column_scene.WALL_FRICTION)
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
+    channel = column_scene.channel(args.channel_width, args.wall_friction)
     results = []
-    for case in cases(args.quick):
-        results.append(run_case(args.out, args.build.resolve(), args.threads, *case))
+    for case in cases(args.quick, channel is not None):
+        results.append(run_case(args.out, args.build.resolve(), args.threads, *case, channel=channel))
         print(json.dumps(results[-1]), flush=True)
         (args.out / "results.json").write_text(json.dumps(results, indent=2) + "\n")
         (args.out / "results.md").write_text(table(results))
