@@ -15,13 +15,15 @@ the cell size the effect of h. Measured at rest (kinetic energy below REST of it
 for a run that never gets there, at its end (flagged, with its kinetic energy over the peak).
 
   /usr/bin/python3 live_study.py [OUT] [--build BUILD] [--threads N] [--cases NAME ...] [--smoke] [--remeasure]
+                                 [--channel-width W]
 
 Writes OUT/<case>/ (cell, scene, run and result.json), OUT/live.json (every finished case), OUT/live.md,
 OUT/live.png and, once the live a = 1 column is in on both grids, OUT/live_grid.json and OUT/live_grid.png
 (both measured at the earlier of their ends). Cases run as separate calls into one OUT (side by side) are
 collected together.
 --remeasure measures the finished runs again and runs nothing. --smoke runs a two-point-wide column of
-27-sphere cells for a few milliseconds past the gate (the CI test).
+27-sphere cells for a few milliseconds past the gate (the CI test). --channel-width W puts every column
+in a flume, between side walls W apart with the back wall's friction (column_scene.channel).
 """
 import argparse
 import csv
@@ -117,7 +119,7 @@ def earliest_rest(a):
     return GATE + 2 * math.sqrt(a * study.WIDTH / 9.81)
 
 
-def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
+def case_scene(folder, law, a, seed, spheres, h, ppc, smoke, channel=None):
     if law == "live":
         folder.mkdir(parents=True, exist_ok=True)
         (folder / "cell.json").write_text(json.dumps(
@@ -130,14 +132,14 @@ def case_scene(folder, law, a, seed, spheres, h, ppc, smoke):
     # The finer grid runs out beyond twice Lube's runout: the twin (about 20° of friction), and the live
     # column, whose front left a grid of twice that room at 0.83 s (stop 35).
     scene = column_scene.scene(a, study.WIDTH, h, ppc, end=end_time(a, smoke), material=material,
-                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE, room=4)
+                               p_wave=column_scene.p_wave_modulus(young, poisson), gate=GATE, room=4, channel=channel)
     scene["time"]["stop_at_rest"] = {"kinetic_energy_fraction": study.REST, "not_before": earliest_rest(a)}
     return scene
 
 
-def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke):
+def run_case(out, build, threads, name, law, a, seed, spheres, h, ppc, smoke, channel=None):
     folder = out / name
-    cost = study.run_scene(folder, case_scene(folder, law, a, seed, spheres, h, ppc, smoke), build, threads)
+    cost = study.run_scene(folder, case_scene(folder, law, a, seed, spheres, h, ppc, smoke, channel), build, threads)
     return record(folder, name, law, a, seed, spheres, h, ppc, cost)
 
 
@@ -239,6 +241,7 @@ def main():
     parser.add_argument("--cases", nargs="+", help="run only these cases (names as in the table)")
     parser.add_argument("--smoke", action="store_true")
     parser.add_argument("--remeasure", action="store_true", help="measure the finished runs again, run nothing")
+    parser.add_argument("--channel-width", type=float, help="side walls this far apart [m] (default: none)")
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     chosen = [c for c in cases(args.smoke) if not args.cases or c[0] in args.cases]
@@ -251,7 +254,8 @@ def main():
                 record(args.out / case[0], *case, cost)
         chosen = []
     for case in chosen:
-        result = run_case(args.out, args.build.resolve(), args.threads, *case, args.smoke)
+        result = run_case(args.out, args.build.resolve(), args.threads, *case, args.smoke,
+                          column_scene.channel(args.channel_width))
         print(json.dumps({k: v for k, v in result.items() if k != "profile"}), flush=True)
     # Every finished case, this call's and earlier ones' (the cases may run as separate calls side by side).
     results = [json.loads(f.read_text()) for c in cases(args.smoke) if (f := args.out / c[0] / "result.json").exists()]
