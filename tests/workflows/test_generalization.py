@@ -5,6 +5,7 @@ own template, every template prepared with the spheres asked for and the surroga
 import json
 import math
 import sqlite3
+import subprocess
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
@@ -14,12 +15,15 @@ from plotting import run_compare  # noqa: E402  (workflow_test_util puts workflo
 class GeneralizationTest(WorkflowTest):
     def test_smoke_benchmark(self):
         run(["/usr/bin/python3", WORKFLOWS / "generalization" / "study.py", self.out, "--smoke", "--threads", "1",
-             "--spheres", "64", "--tolerance", "40", "--error-budget", "150", "--draws", "2"])
+             "--spheres", "64", "--surrogate", WORKFLOWS / "generalization" / "surrogate_fast.json",
+             "--tolerance", "40", "--error-budget", "150", "--draws", "2"])
         summary = self.assert_json_fields(self.out / "summary.json", ["paths", "spheres", "end_s", "libraries_cpu_s", "scenes"])
         self.assertEqual(summary["spheres"], 64)
         self.assertEqual(summary["surrogate"]["tolerance"], 40)
         scene_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate.json").read_text())["materials"][0]
         self.assertEqual((scene_material["law"], scene_material["tolerance"]), ("surrogate", 40))
+        # --surrogate's other keys reach the runs (the faster setting's shorter catch-ups).
+        self.assertEqual(scene_material["fallback"]["catch_up_steps"], 100)
         self.assertNotIn("error_budget", scene_material)
         budget_material = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate_budget.json").read_text())["materials"][0]
         self.assertEqual((budget_material["law"], budget_material["tolerance"], budget_material["error_budget"]),
@@ -87,3 +91,14 @@ class GeneralizationTest(WorkflowTest):
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "stress_smoothed_rel_l2": 0.0,
                                   "deposit_rms_m": 0.0})
         self.assertTrue(json.loads((again / "summary.json").read_text())["final_time"] > 0)
+
+    def test_surrogate_keys_that_are_not_a_json_object_are_refused_naming_the_file(self):
+        for text, expected in (("{\"tolerance\": 150", "expected a readable JSON object"), ("[150]", "got list")):
+            keys = self.out / "keys.json"
+            keys.write_text(text)
+            done = subprocess.run(["/usr/bin/python3", str(WORKFLOWS / "generalization" / "study.py"), str(self.out / "study"),
+                                   "--surrogate", str(keys)], capture_output=True, text=True)
+            self.assertNotEqual(done.returncode, 0)
+            self.assertIn(f"{keys}: --surrogate: ", done.stderr)
+            self.assertIn(expected, done.stderr)
+            self.assertFalse((self.out / "study" / "runs").exists())

@@ -2,7 +2,7 @@
 """Does a generic cell library answer scenes it has never seen? (issue 13, "Benchmark")
 
   study.py [OUT] [--paths PATHS.json] [--aspects 0.5,1,2] [--bonds 1,1.5] [--spheres N] [--tolerance PA]
-           [--error-budget PA] [--draws N] [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
+           [--surrogate KEYS.json] [--error-budget PA] [--draws N] [--end T] [--gate T] [--threads N] [--build DIR] [--smoke]
 
 The library is made from sampled paths and states only (`dem_sampler prepare` + `sample PATHS`,
 default workflows/demo/paths.json; workflows/precompute/states.json adds state probes): no run of any
@@ -18,8 +18,9 @@ Runs per scene: `live` (the reference), `live_seed` (live on a template prepared
 seed: the noise floor), `live_perturbed` (the reference with gravity changed in its 12th digit: how far
 its own trajectory moves under a change in the last bits, the part of every error that no law, however
 exact, could avoid), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
-`surrogate` (the state key, its material keys from surrogate.json beside this script; `--tolerance`
-replaces its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
+`surrogate` (the state key, its material keys from `--surrogate`, default surrogate.json beside this
+script, the demo's setting; surrogate_fast.json is the faster one of stop 55; `--tolerance` replaces
+its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
 default 300 Pa: a point whose estimated errors summed since its last live spell or re-anchoring
 would pass it is re-anchored), and `surrogate_budget_seed`: surrogate_budget on the other packing's
 library (its template and the same sampled paths), measured against `live_seed`, the live run of its
@@ -113,7 +114,12 @@ def column_settings(base, aspect, args):
 
 
 def surrogate_material(args):
-    material = json.loads((HERE / "surrogate.json").read_text())
+    try:
+        material = json.loads(args.surrogate.read_text())
+    except (OSError, json.JSONDecodeError) as error:
+        sys.exit(f"{args.surrogate}: --surrogate: expected a readable JSON object of surrogate keys ({error})")
+    if not isinstance(material, dict):
+        sys.exit(f"{args.surrogate}: --surrogate: expected a JSON object of surrogate keys, got {type(material).__name__}")
     if args.tolerance is not None:
         material["tolerance"] = args.tolerance
     return material
@@ -210,7 +216,9 @@ def main():
     parser.add_argument("--aspects", default="0.5,1,2")
     parser.add_argument("--bonds", default="1,1.5")
     parser.add_argument("--spheres", type=int, help="spheres per cell instead of the 125 of CELL")
-    parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of surrogate.json's")
+    parser.add_argument("--surrogate", type=Path, default=HERE / "surrogate.json",
+                        help="the surrogate runs' material keys (JSON object)")
+    parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of --surrogate's")
     parser.add_argument("--error-budget", type=float, default=300.0,
                         help="the surrogate_budget run's error_budget [Pa]")
     parser.add_argument("--draws", type=int, default=3, help="runs of surrogate_budget, each on gravity changed in its 12th digit")
