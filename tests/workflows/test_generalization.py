@@ -1,7 +1,7 @@
 """The generalization benchmark (workflows/generalization/study.py) in its smoke version: the tiny
 column as the one held-out scene, its eight runs (two draws of the surrogate with its budget), summary.json with the per-scene fields, the table and
 the figure, both libraries sampled and the second library's run measured against the live run of its
-own template, every template prepared with the spheres asked for and the surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all."""
+own template, every template prepared with the spheres asked for and the surrogate with the keys of --surrogate at the tolerance (and, in its budget run, the error budget) asked for; and the live reference is deterministic: its scene run again gives no error at all. Surrogate keys that are not a JSON object are refused, naming the file, before anything runs."""
 import json
 import math
 import sqlite3
