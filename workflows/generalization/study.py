@@ -113,13 +113,15 @@ def column_settings(base, aspect, args):
     return settings
 
 
-def surrogate_material(args):
+def surrogate_material(args, fail):
+    """The surrogate runs' keys: --surrogate's JSON object, --tolerance replacing its tolerance;
+    `fail(message)` (the parser's error) when the file is no such object."""
     try:
         material = json.loads(args.surrogate.read_text())
     except (OSError, json.JSONDecodeError) as error:
-        sys.exit(f"{args.surrogate}: --surrogate: expected a readable JSON object of surrogate keys ({error})")
+        fail(f"{args.surrogate}: --surrogate: expected a readable JSON object of surrogate keys ({error})")
     if not isinstance(material, dict):
-        sys.exit(f"{args.surrogate}: --surrogate: expected a JSON object of surrogate keys, got {type(material).__name__}")
+        fail(f"{args.surrogate}: --surrogate: expected a JSON object of surrogate keys, got {type(material).__name__}")
     if args.tolerance is not None:
         material["tolerance"] = args.tolerance
     return material
@@ -235,10 +237,10 @@ def main():
     if args.smoke:
         args.scene, args.paths = ROOT / "tests" / "workflows" / "tiny_column.json", ROOT / "tests" / "workflows" / "tiny_paths.json"
         aspects, bonds, args.end, args.gate = [1.0], [1.0], 0.01, 0.002
+    surrogate = surrogate_material(args, parser.error)
     args.out.mkdir(parents=True, exist_ok=True)
     build = args.build.resolve()
     spheres = args.spheres or json.loads(CELL.read_text())["preparation"]["spheres"]
-    surrogate = surrogate_material(args)
     summary = {"paths": str(args.paths), "surrogate": surrogate, "error_budget": args.error_budget, "draws": args.draws,
                "spheres": spheres,
                "end_s": args.end, "gate_s": args.gate, "threads": args.threads, "libraries_cpu_s": {}, "scenes": {}}
