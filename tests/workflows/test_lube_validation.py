@@ -1,10 +1,11 @@
 """The Lube validation (workflows/lube_validation): the quick study runs the coarse a = 1 column to
 rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
 scene generator's column is what the study measures, with or without μ(I), and in a channel; a heap
-below its friction angle stands."""
+below its friction angle stands; a thin layer launched along the base slides as far as a rigid block."""
 import json
 import math
 import shutil
+import subprocess
 import sys
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
@@ -70,6 +71,32 @@ class LubeValidationTest(WorkflowTest):
         settled_mm = float(row[0].split("|")[5])
         self.assertLess(abs(settled_mm), 0.05)
         self.assertTrue((self.out / "slope25_apic_flip5_h0.02" / "run" / "summary.json").exists())
+
+    def test_a_launched_thin_layer_slides_as_far_as_a_rigid_block(self):
+        """thin_layer.py --velocity: layers one and two grid cells thick, launched at 1 m/s on a base
+        of friction 0.3 (less than the sand carries in simple shear, sin 30° = 0.5, so the layer slides
+        as one), stop with their centre of mass where a rigid block would, v0²/(2 μ g) = 169.9 mm,
+        within 3 %: the base contact takes its whole Coulomb friction from a layer as thin as the grid.
+        Their fronts run ahead of the centre (the layer stretches as it slows)."""
+        out = run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "thin_layer.py", self.out, "--build", BUILD,
+                   "--thickness", "0.01", "--cells", "1", "2", "--transfers", "apic_flip:5", "--velocity", "1",
+                   "--base-friction", "0.3"])
+        rigid = 1000 * 1.0**2 / (2 * 0.3 * 9.81)
+        self.assertIn(f"rigid block: {rigid:.1f}", out)
+        rows = [line.split("|") for line in out.splitlines() if line.startswith("| apic_flip:5 |")]
+        self.assertEqual([int(r[2]) for r in rows], [1, 2], out)
+        for r in rows:
+            centre, front, rear = (float(r[i]) for i in (3, 4, 5))
+            self.assertLess(abs(centre / rigid - 1), 0.03, out)
+            self.assertGreater(front, centre)
+            self.assertLess(rear, centre)
+
+    def test_thin_layer_refuses_a_negative_speed(self):
+        done = subprocess.run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "thin_layer.py", self.out,
+                               "--build", BUILD, "--velocity", "-1"], capture_output=True, text=True)
+        self.assertEqual(done.returncode, 2)
+        self.assertIn("--velocity: expected a speed >= 0 [m/s], got -1.0", done.stderr)
+        self.assertEqual(list(self.out.iterdir()), [])  # refused before any run folder is made
 
 
 class LiveLubeTest(WorkflowTest):
