@@ -73,11 +73,13 @@ def main():
     parser.add_argument("--velocity", type=float, default=0.0, help="launch speed along the base [m/s] (0: at rest)")
     parser.add_argument("--base-friction", type=float, default=column_scene.BASE_FRICTION)
     args = parser.parse_args()
-    if not args.thickness > 0 or min(args.cells) < 1:
-        parser.error("--thickness must be positive and --cells at least 1")
-    if not math.isfinite(args.velocity) or args.velocity < 0:
+    if not (math.isfinite(args.thickness) and args.thickness > 0):
+        parser.error(f"--thickness: expected a positive length [m], got {args.thickness}")
+    if min(args.cells) < 1:
+        parser.error(f"--cells: expected whole numbers of grid cells >= 1, got {min(args.cells)}")
+    if not (math.isfinite(args.velocity) and args.velocity >= 0):
         parser.error(f"--velocity: expected a speed >= 0 [m/s], got {args.velocity}")
-    if not args.base_friction > 0:
+    if not (math.isfinite(args.base_friction) and args.base_friction > 0):
         parser.error(f"--base-friction: expected a positive friction coefficient, got {args.base_friction}")
     sliding = args.velocity > 0
     if sliding:
