@@ -74,8 +74,8 @@ class LubeValidationTest(WorkflowTest):
 
     def test_a_launched_thin_layer_slides_as_far_as_a_rigid_block(self):
         """thin_layer.py --velocity: layers one and two grid cells thick, launched at 1 m/s on a base
-        of friction 0.3 (less than the sand carries in simple shear, sin 30° = 0.5, so the layer slides
-        as one), stop with their centre of mass where a rigid block would, v0²/(2 μ g) = 169.9 mm,
+        of friction 0.3 (less than the sand carries in simple shear, sin 30° = 0.5, so the base's
+        friction sets the slide), stop with their centre of mass where a rigid block would, v0²/(2 μ g) = 169.9 mm,
         within 3 %: the base contact takes its whole Coulomb friction from a layer as thin as the grid.
         Their fronts run ahead of the centre (the layer stretches as it slows)."""
         out = run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "thin_layer.py", self.out, "--build", BUILD,

@@ -7,8 +7,8 @@ in h (see deposit.py). Lube et al.'s planar law at small aspect ratio, ΔL = 1.2
 
 With --velocity V0 the layer is launched along the base at V0 instead (on a base of --base-friction
 μ), as the column's sheet slides out: the printout adds how far its centre of mass went, against a
-rigid block's v0²/(2 μ g) (a layer whose base carries less shear than its material slides as one: the
-base contact's friction, checked on a layer as thin as the grid), and how far its front and rear
+rigid block's v0²/(2 μ g) (on a base weaker in shear than the material, the base's friction sets
+the slide: the base contact checked on a layer as thin as the grid), and how far its front and rear
 went.
 
   /usr/bin/python3 thin_layer.py [OUT] [--build BUILD] [--thickness T] [--transfers apic apic_flip:5 ...]
