@@ -16,6 +16,7 @@ import math
 from pathlib import Path
 
 GATE_REMOVAL = 0.02  # [s]
+GRAVITY = 9.81  # [m/s²], downwards
 DENSITY, YOUNG, POISSON, FRICTION_ANGLE = 1500.0, 5e6, 0.3, 30.0
 BASE_FRICTION, WALL_FRICTION = 0.5, 0.3
 
@@ -59,14 +60,14 @@ def scene(a, width=0.2, h=0.02, ppc=2, cfl=0.3, end=None, transfer=DEFAULT_TRANS
     k_n = (p_wave or p_wave_modulus()) / ppc**2
     top = base + H0 + h
     contact = lambda mu: {"k_n": k_n, "k_t": k_n, "friction": mu, "damping": 0.5}
-    end = end or 8 * math.sqrt(H0 / 9.81) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
+    end = end or 8 * math.sqrt(H0 / GRAVITY) + 0.3  # at rest after about 4 to 5 sqrt(H0 / g)
     sand = material or drucker_prager(rheology=rheology)
     out = {
         "grid": {"origin": [0, 0], "cell_size": h, "cells": [cells_x, cells_y]},
         "time": {"end": end, "output_interval": end / 10, "series_interval": 2e-3, "cfl": cfl, "contact_factor": cfl},
         "integration": {"transfer": transfer},
         "effects": {"gravity": True, "boundary_friction": True},
-        "gravity": {"g": [0, -9.81]},
+        "gravity": {"g": [0, -GRAVITY]},
         "materials": [sand],
         "regions": [{"material": "sand", "rectangle": {"min": [wall, base], "max": [wall + L0, base + H0]},
                      "points_per_cell": ppc}],

@@ -28,7 +28,6 @@ sys.path.insert(0, str(HERE.parent))
 from plotting import environment  # noqa: E402
 from plotting.vtu import read_run  # noqa: E402
 
-G = 9.81
 # [s] after a layer at rest is released (or has slid to rest): its ends have about stopped by then
 # (kinetic energy below 1 % of its peak at T/h = 4, 8).
 END = 0.3
@@ -36,13 +35,13 @@ END = 0.3
 
 def rigid_slide(velocity, base_friction):
     """How far a rigid block launched at `velocity` slides on a Coulomb base [m]: v0² / (2 μ g)."""
-    return velocity**2 / (2 * base_friction * G)
+    return velocity**2 / (2 * base_friction * column_scene.GRAVITY)
 
 
 def layer_scene(thickness, h, transfer, velocity=0.0, base_friction=column_scene.BASE_FRICTION):
     length, margin = 10 * thickness, 4 * thickness
     # A launched layer slides for v0/(μ g) and then rests; its front may go several slides out.
-    end = END + (velocity / (base_friction * G) if velocity else 0.0)
+    end = END + velocity / (base_friction * column_scene.GRAVITY)
     ahead = 3 * rigid_slide(velocity, base_friction)
     scene = column_scene.scene(1.0, h=h, end=end, transfer=transfer)
     base = 2 * h
@@ -59,7 +58,8 @@ def layer_scene(thickness, h, transfer, velocity=0.0, base_friction=column_scene
 def displacements(run_folder):
     """How far the layer's front, rear and centre of mass [m] moved between the first and the last
     snapshot (points of one layer carry equal masses)."""
-    first, last = (s.xy[:, 0] for s in (read_run(run_folder)[i] for i in (0, -1)))
+    snapshots = read_run(run_folder)
+    first, last = snapshots[0].xy[:, 0], snapshots[-1].xy[:, 0]
     return {"front": last.max() - first.max(), "rear": last.min() - first.min(), "centre": last.mean() - first.mean()}
 
 
