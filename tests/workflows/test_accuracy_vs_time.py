@@ -23,7 +23,7 @@ import variants  # noqa: E402
 
 
 ERRORS = ["front_rel_err", "runout_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m",
-          "mass_edge_rel_err", "centroid_rel_err"]
+          "mass_edge_rel_err", "centroid_rel_err", "damage_change"]
 AGAINST_NOISE = ["front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m", "mass_edge_rel_err",
                  "centroid_rel_err"]
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", *ERRORS,
@@ -41,7 +41,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertEqual(list(rows["live"]), COLUMNS)
         # The reference against itself has no error; the variants are different runs of the same scene.
         self.assertIn(rows["live"]["runout_rel_err"], ("", "0.0"))  # empty: the tiny column ran out < 1 cm
-        for key in ("front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m"):
+        for key in ("front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m", "damage_change"):
             self.assertEqual(float(rows["live"][key]), 0.0)
         self.assertGreater(float(rows["q_sigma_0.5"]["stress_rel_l2"]), 0.0)
         self.assertGreater(float(rows["hybrid"]["stress_rel_l2"]), 0.0)
@@ -183,7 +183,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         for key in ("runout_rel_err", "mass_edge_rel_err", "centroid_rel_err"):
             self.assertIn(errors.pop(key), (None, 0.0))  # None: the tiny column moved < 1 cm
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "stress_smoothed_rel_l2": 0.0,
-                                  "deposit_rms_m": 0.0})
+                                  "deposit_rms_m": 0.0, "damage_change": 0.0})
         # Not zero by accident: past the stop the reference's stress field still changes.
         snapshots = {round(s.time, 9): s for s in vtu.read_run(reference)}
         last_before_stop = max(t for t in snapshots if t <= stop)

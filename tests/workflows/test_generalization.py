@@ -39,8 +39,12 @@ class GeneralizationTest(WorkflowTest):
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "runout_rel_change_draws", "noise_floor",
-                    "chaos_floor", "runout_rel_error_seed_library"):
+                    "chaos_floor", "runout_rel_error_seed_library", "damage_change", "damage_noise_floor"):
             self.assertIn(key, scene)
+        # The tiny column's cells are bonded: D is a share of bonds, its change between two runs at most 1.
+        self.assertEqual(scene["damage_change"], scene["runs"]["surrogate_budget"]["damage_change"])
+        self.assertLessEqual(abs(scene["damage_change"]), 1.0)
+        self.assertEqual(scene["damage_noise_floor"], abs(scene["runs"]["live_seed"]["damage_change"]))
         self.assertEqual(summary["draws"], 2)
         self.assertEqual(len(scene["runout_rel_change_draws"]), 2)
         # The headline is the state key with its error budget, the demo's setting.
@@ -89,7 +93,7 @@ class GeneralizationTest(WorkflowTest):
         for key in ("runout_rel_err", "mass_edge_rel_err", "centroid_rel_err"):
             self.assertIn(errors.pop(key), (None, 0.0))
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "stress_smoothed_rel_l2": 0.0,
-                                  "deposit_rms_m": 0.0})
+                                  "deposit_rms_m": 0.0, "damage_change": 0.0})
         self.assertTrue(json.loads((again / "summary.json").read_text())["final_time"] > 0)
 
     def test_surrogate_keys_that_are_not_a_json_object_are_refused_naming_the_file(self):

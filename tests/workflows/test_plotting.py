@@ -99,6 +99,13 @@ class FlowTest(WorkflowTest):
         np.testing.assert_allclose(flow.smoothed_stress(alternating, ref.xy, 0.05, block=7),
                                    flow.smoothed_stress(alternating, ref.xy, 0.05), rtol=1e-12)
 
+    def test_mean_damage_is_the_share_of_bonds_broken_over_points(self):
+        s = snapshot([[0, 0], [1, 0], [0, 1], [1, 1]])
+        s.fields["damage"] = np.array([0.0, 0.2, 0.5, 0.9])
+        self.assertAlmostEqual(flow.mean_damage(s), 0.4)
+        s.fields["damage"] = np.zeros(4)  # a law without bonds
+        self.assertEqual(flow.mean_damage(s), 0.0)
+
     def test_deposit_profile_is_the_highest_point_per_column(self):
         s = snapshot([[0.05, 0.1], [0.05, 0.3], [0.15, 0.2], [0.35, 0.05]])
         np.testing.assert_allclose(flow.deposit_profile(s, [0, 0.1, 0.2, 0.3, 0.4]), [0.3, 0.2, 0.0, 0.05])

@@ -178,6 +178,7 @@ def measure(name, costs, args):
             "runout_rel_error": abs(sum(measured) / len(measured)) if measured else None,
             "runout_rel_change_draws": draws,
             "noise_floor": runs["live_seed"]["runout_rel_err"],
+            "damage_change": s["damage_change"], "damage_noise_floor": abs(runs["live_seed"]["damage_change"]),
             "chaos_floor": runs["live_perturbed"]["runout_rel_err"],
             "runout_rel_error_seed_library": runs["surrogate_budget_seed"]["runout_rel_err"], "runs": runs}
 

@@ -33,6 +33,12 @@ def bulk_advance(snapshot, initial):
             float(x.mean() - x0.mean()))
 
 
+def mean_damage(snapshot):
+    """Mean bond damage D = 1 − N_b/N_b(0) over the points (0 for a law without bonds, whose
+    snapshots carry D = 0), equal masses as in bulk_advance."""
+    return float(np.mean(snapshot.fields["damage"])) if len(snapshot) else 0.0
+
+
 def stress_error(snapshot, reference):
     """Relative L2 difference of the in-plane stress fields of two snapshots of the same scene (points
     matched by id): ‖σ − σ_ref‖ / ‖σ_ref‖ over all points and components."""

@@ -87,4 +87,7 @@ def errors(folder, reference_folder):
         "deposit_rms_m": flow.profile_error(final, ref_final, bins),
         "mass_edge_rel_err": mass_edge,
         "centroid_rel_err": centroid,
+        # Signed, in D's own units: a surrogate's bias in the bonds it breaks, which the stress and the
+        # runout need not show (README, "Stop 57").
+        "damage_change": flow.mean_damage(final) - flow.mean_damage(ref_final),
     }
