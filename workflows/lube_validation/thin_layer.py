@@ -25,7 +25,7 @@ import column_scene
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment  # noqa: E402
+from plotting import environment, flow  # noqa: E402
 from plotting.vtu import read_run  # noqa: E402
 
 # [s] after a layer at rest is released (or has slid to rest): its ends have about stopped by then
@@ -60,7 +60,8 @@ def displacements(run_folder):
     snapshot (points of one layer carry equal masses)."""
     snapshots = read_run(run_folder)
     first, last = snapshots[0].xy[:, 0], snapshots[-1].xy[:, 0]
-    return {"front": last.max() - first.max(), "rear": last.min() - first.min(), "centre": last.mean() - first.mean()}
+    _, centre = flow.bulk_advance(snapshots[-1], snapshots[0])
+    return {"front": last.max() - first.max(), "rear": last.min() - first.min(), "centre": centre}
 
 
 def main():
