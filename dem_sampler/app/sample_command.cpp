@@ -55,6 +55,15 @@ Setup set_up(const SampleOptions& options) {
   Setup setup{db::Library::open(options.library), nullptr, {}, 0};
   db::Library& library = setup.library;
   const std::int64_t template_id = choose_template(library, options);
+  for (std::size_t k = 0; k < plans.size(); ++k) {
+    try {
+      dem::require_stable_time_step_factor(plans[k].path.substepping.q_t, library.material().contact.restitution);
+    } catch (const std::invalid_argument& e) {
+      throw common::InputError(options.paths_file.string() + ": planned path " + std::to_string(k + 1) + " of " +
+                               std::to_string(plans.size()) + ": substepping.q_t: " +
+                               e.what() + " (the library's material)");
+    }
+  }
   setup.lock = std::make_unique<db::SamplerLock>(options.library);
 
   db::Catalogue& catalogue = library.catalogue();

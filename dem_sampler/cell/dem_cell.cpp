@@ -135,11 +135,10 @@ void DemCell::set_friction(double mu) {
 IncrementResult DemCell::advance(const Mat3& increment, double duration, const Substepping& q) {
   if (!increment.allFinite() || !(increment.determinant() > 0))
     throw std::invalid_argument("advance: the deformation increment must be finite with a positive determinant");
-  if (!(q.q_t > 0 && q.q_t <= kMaxTimeStepFactor)) {
-    std::ostringstream msg;
-    msg << "advance: substepping.q_t: expected a number in (0, " << kMaxTimeStepFactor
-        << "] (larger steps are unstable on dense bonded packings), got " << q.q_t;
-    throw std::invalid_argument(msg.str());
+  try {
+    require_stable_time_step_factor(q.q_t, material_.contact.restitution);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("advance: substepping.q_t: ") + e.what());
   }
   if (!(q.q_sigma >= 0 && q.q_sigma <= 1))
     throw std::invalid_argument("advance: expected Q_sigma in [0, 1]");

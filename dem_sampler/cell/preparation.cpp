@@ -10,7 +10,7 @@
 namespace grainbank::dem {
 namespace {
 
-void check(const PreparationSpec& s) {
+void check(const PreparationSpec& s, const Material& material) {
   auto fail = [](const char* field, const char* expected, double got) {
     std::ostringstream msg;
     msg << "preparation." << field << ": expected " << expected << ", got " << got;
@@ -29,8 +29,11 @@ void check(const PreparationSpec& s) {
   if (!(s.inertial_number > 0 && s.inertial_number <= 0.1))
     fail("inertial_number", "a number in (0, 0.1]", s.inertial_number);
   if (!(s.local_damping >= 0 && s.local_damping < 1)) fail("local_damping", "a number in [0, 1)", s.local_damping);
-  static_assert(kMaxTimeStepFactor == 0.2, "the message below names the bound");
-  if (!(s.q_t > 0 && s.q_t <= kMaxTimeStepFactor)) fail("q_t", "a number in (0, 0.2]", s.q_t);
+  try {
+    require_stable_time_step_factor(s.q_t, material.contact.restitution);
+  } catch (const std::invalid_argument& e) {
+    throw std::invalid_argument(std::string("preparation.q_t: ") + e.what());
+  }
   if (!(s.skin > 0 && s.skin <= 1)) fail("skin", "a number in (0, 1]", s.skin);
   if (s.max_steps < 1) fail("max_steps", "a positive number", static_cast<double>(s.max_steps));
 }
@@ -77,7 +80,7 @@ long settle_at_pressure(DemCell& cell, const Material& material, const Preparati
 }  // namespace
 
 DemCell random_gas(const Material& material, const PreparationSpec& spec) {
-  check(spec);
+  check(spec, material);
   SeededRandom rng(spec.seed);
   std::vector<double> radius(spec.spheres);
   double solid_volume = 0;

@@ -4,6 +4,7 @@
 
 #include "common/json_input.hpp"
 #include "dem_sampler/driver/packing_csv.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 
 namespace grainbank::app {
 namespace {
@@ -119,6 +120,7 @@ CellInput load_cell_input(const std::filesystem::path& file) {
   if (preparation) {
     if (const auto skin = root.find("skin")) skin->fail("only used with /packing; use /preparation/skin");
     input.preparation = read_preparation(*preparation);
+    require_stable_q_t(*preparation, input.preparation->q_t, input.material.contact.restitution);
   } else if (packing) {
     input.packing = file.parent_path() / packing->string();
     input.packing_skin = root.number_or("skin", input.packing_skin, Range::between(0, 1, true, false));

@@ -1,5 +1,9 @@
 #include "dem_sampler/driver/path_input.hpp"
 
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
 #include "common/json_input.hpp"
 
 namespace grainbank::app {
@@ -54,6 +58,17 @@ dem::Substepping read_substepping(const JsonNode& root) {
   q.q_n = static_cast<int>(node->integer_or("q_n", q.q_n, 1, 1'000'000));
   q.q_sigma = node->number_or("q_sigma", q.q_sigma, Range::between(0, 1, true, false));
   return q;
+}
+
+void require_stable_q_t(const JsonNode& holder, double q_t, double restitution) {
+  try {
+    dem::require_stable_time_step_factor(q_t, restitution);
+  } catch (const std::invalid_argument& e) {
+    if (const auto node = holder.find("q_t")) node->fail(e.what());
+    std::ostringstream msg;
+    msg << "q_t (default " << q_t << "): " << e.what();
+    holder.fail(msg.str());
+  }
 }
 
 double strain_rate_norm(const dem::Mat3& L) { return (0.5 * (L + L.transpose())).norm(); }

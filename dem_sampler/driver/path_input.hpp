@@ -36,6 +36,11 @@ dem::Mat3 read_in_plane_gradient(const common::JsonNode& node);
 PathSegment read_segment(const common::JsonNode& node);
 dem::Substepping read_substepping(const common::JsonNode& root);
 
+// Refuses a Q_t the material's dashpots make unstable (dem::max_time_step_factor) with an InputError
+// at `holder`'s "q_t" (at `holder` itself, naming the default, when it has none). `holder` is the
+// object that holds q_t: a "substepping" or a "preparation".
+void require_stable_q_t(const common::JsonNode& holder, double q_t, double restitution);
+
 // ||sym(L)|| (Frobenius): the strain rate that turns a segment's "strain" into a duration.
 double strain_rate_norm(const dem::Mat3& L);
 

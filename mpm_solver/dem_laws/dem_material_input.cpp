@@ -1,6 +1,7 @@
 #include "mpm_solver/dem_laws/dem_material_input.hpp"
 
 #include "dem_sampler/driver/cell_input.hpp"
+#include "dem_sampler/driver/path_input.hpp"
 #include "database/store/library.hpp"
 
 namespace grainbank::mpm {
@@ -45,8 +46,8 @@ dem::DemCell read_cell_template(const JsonNode& material, const std::filesystem:
   }
 }
 
-void require_effects(const JsonNode& material, const dem::Material& built, const DemEffects& scene,
-                     const std::string& source) {
+void require_compatible(const JsonNode& material, const dem::Material& built, const DemEffects& scene,
+                        const std::string& source, const LiveDemSettings& live) {
   const auto check = [&](const char* name, const std::optional<bool>& wanted, bool on) {
     if (wanted && *wanted != on)
       material.fail(source + " was built with " + name + (on ? " on" : " off") + " but the scene's effects." + name +
@@ -55,6 +56,8 @@ void require_effects(const JsonNode& material, const dem::Material& built, const
   check("cohesion", scene.cohesion, built.effects.bonds);
   check("kinetic_stress", scene.kinetic_stress, built.effects.kinetic_stress);
   check("rolling_resistance", scene.rolling_resistance, built.effects.rolling);
+  const auto substepping = material.find("substepping");
+  app::require_stable_q_t(substepping ? *substepping : material, live.substepping.q_t, built.contact.restitution);
 }
 
 }  // namespace grainbank::mpm

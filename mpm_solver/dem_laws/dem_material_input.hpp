@@ -20,9 +20,10 @@ LiveDemSettings read_live_settings(const common::JsonNode& material);
 // Exactly one of "cell" (a cell.json, prepared here) and "library" with "template" (loaded).
 dem::DemCell read_cell_template(const common::JsonNode& material, const std::filesystem::path& folder);
 
-// Refuses a cell or library built with other effects than the scene declares; `source` names it
-// in the message ("the cell", "the library LIB").
-void require_effects(const common::JsonNode& material, const dem::Material& built, const DemEffects& scene,
-                     const std::string& source);
+// Refuses a cell or library built with other effects than the scene declares, and a substepping.q_t
+// that its dashpots make unstable (dem::max_time_step_factor); `source` names it in the message
+// ("the cell", "the library LIB").
+void require_compatible(const common::JsonNode& material, const dem::Material& built, const DemEffects& scene,
+                        const std::string& source, const LiveDemSettings& live);
 
 }  // namespace grainbank::mpm

@@ -71,7 +71,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   } catch (const db::StoreError& e) {
     lib.fail(e.what());
   }
-  require_effects(material, link->template_cell().material(), scene.effects, "the library " + lib.string());
+  require_compatible(material, link->template_cell().material(), scene.effects, "the library " + lib.string(), s.live);
   return common::at_node(material, [&] { return std::make_unique<LibraryLaw>(std::move(link), s); });
 }
 

@@ -110,7 +110,8 @@ constexpr std::string_view kKeys[] = {"name", "law", "cell", "library", "templat
 std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const LawContext& scene) {
   const LiveDemSettings settings = read_live_settings(material);
   const dem::DemCell cell = read_cell_template(material, scene.folder);
-  require_effects(material, cell.material(), scene.effects, material.has("cell") ? "the cell" : "the library");
+  require_compatible(material, cell.material(), scene.effects, material.has("cell") ? "the cell" : "the library",
+                     settings);
   return common::at_node(material, [&] { return std::make_unique<LiveDemLaw>(cell, settings); });
 }
 

@@ -70,7 +70,12 @@ INSTANTIATE_TEST_SUITE_P(
                   {"/preparation/diameter/max: expected a number >= 0.00034, got 0.0001"}},
         ErrorCase{"PreparationAndPacking", with(kGoodCell, "/packing", "p.csv"), {"/packing: give either"}},
         ErrorCase{"NoCellSource", without(kGoodCell, "/preparation"), {"/preparation: required field missing"}},
-        ErrorCase{"SkinOutsidePacking", with(kGoodCell, "/skin", 0.1), {"/skin: only used with /packing"}}),
+        ErrorCase{"SkinOutsidePacking", with(kGoodCell, "/skin", 0.1), {"/skin: only used with /packing"}},
+        // Restitution 0.3: ζ = 0.358, so the undamped bound 0.2 becomes 0.2 (√(1 + ζ²) − ζ) = 0.141.
+        ErrorCase{"TimeStepFactorItsDashpotsMakeUnstable", with(kGoodCell, "/preparation/q_t", 0.15),
+                  {"/preparation/q_t: expected a number in (0, 0.1408", "restitution 0.3", "got 0.15"}},
+        ErrorCase{"DefaultTimeStepFactorTooLargeForHeavyDashpots", with(kGoodCell, "/material/restitution", 0.01),
+                  {"/preparation: q_t (default 0.1): expected a number in (0, 0.0941", "got 0.1"}}),
     testing::case_name);
 
 TEST(CellInput, GoodFileReadsBackWithDefaults) {

@@ -78,6 +78,19 @@ TEST_F(SceneOnLibrary, OtherEffectsThanTheLibrarysAreRefused) {
   EXPECT_NE(load_error(folder_ / "scene.json").find("rolling_resistance off"), std::string::npos);
 }
 
+// The snow cell's dashpots (restitution 0.3) make velocity Verlet unstable below the undamped bound 0.2:
+// a Q_t they make unstable is refused with the scene's file, the field and the accepted range.
+TEST_F(SceneOnLibrary, ATimeStepFactorTheLibrarysDashpotsMakeUnstableIsRefused) {
+  write(folder_ / "scene.json", scene_json("{}", R"(, "substepping": {"q_t": 0.2})"));
+  const std::string error = load_error(folder_ / "scene.json");
+  EXPECT_NE(error.find("scene.json: /materials/0/substepping/q_t: expected a number in (0, 0.1408"), std::string::npos)
+      << error;
+  EXPECT_NE(error.find("restitution 0.3"), std::string::npos) << error;
+  EXPECT_NE(error.find("got 0.2"), std::string::npos) << error;
+  write(folder_ / "scene.json", scene_json("{}", R"(, "substepping": {"q_t": 0.14})"));
+  EXPECT_EQ(load_error(folder_ / "scene.json"), "");
+}
+
 TEST(Effects, AFrictionlessBoundaryKeepsNoFrictionHistory) {
   for (const double friction : {0.0, 0.5}) {
     Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 6, 6), 1000, 1e5, 0.3);

@@ -207,6 +207,16 @@ TEST_F(SampleCli, InvalidPathsFileLeavesTheLibraryUntouched) {
   const Outcome r = run(dem_sampler({"sample", bad.string(), "--library", lib.string()}), here_.path());
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_EQ(r.err, "dem_sampler: " + bad.string() + ": /paths/1/segments/0/strain: expected a positive number, got -1\n");
+  // A Q_t the library material's dashpots (restitution 0.3) make unstable, in the second path only.
+  const fs::path unstable = here_.write("unstable.json", R"({"record_interval": 2e-4, "paths": [
+    {"segments": [{"L": [[0, 1], [0, 0]], "duration": 1e-3}]},
+    {"segments": [{"L": [[0, 1], [0, 0]], "duration": 1e-3}], "substepping": {"q_t": 0.2}}]})");
+  const Outcome u = run(dem_sampler({"sample", unstable.string(), "--library", lib.string()}), here_.path());
+  EXPECT_EQ(u.exit_code, 1);
+  EXPECT_NE(u.err.find(unstable.string() + ": planned path 2 of 2: substepping.q_t: expected a number in (0, 0.1408"),
+            std::string::npos)
+      << u.err;
+  EXPECT_NE(u.err.find("got 0.2 (the library's material)"), std::string::npos) << u.err;
   std::map<fs::path, std::string> after;
   for (const auto& e : fs::recursive_directory_iterator(lib))
     if (e.is_regular_file()) after[e.path()] = slurp(e.path());
