@@ -25,7 +25,7 @@
 //   form, each point divided by its own neighbourhood's weight, averages a boundary point over the
 //   body behind it only, and so drives it with motion that is not its own: in a live column on its
 //   floor, the bottom row then carried half its geostatic stress, in horizontal tension, and its
-//   bonds broke at the toe before the gate opened (README, "The two-scale cohesive column").
+//   bonds broke at the toe before the gate opened (docs/validation_cohesive.md, "Tried and not kept").
 // - Uniform fields stay exact: the weights act on differences L_q − L_p.
 // The price of the symmetric form: near a boundary the average is partly local, two-thirds at a
 // corner (the toe of a cut) and nearly half along an edge, for ℓ = 8 h.

@@ -502,7 +502,7 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
 // the straight line to where the motion ends, it is not moved at all and keeps the stress it had
 // (stop 52: a standing column's points so came to 50–90 Pa of shear where live cells carry 5–8 Pa).
 // (Not so for a large motion sped up: 3e-2 out and back over 30 increments ends 0.98 kPa from the
-// replay in legs, 0.82 kPa in one; README, "Stop 52".)
+// replay in legs, 0.82 kPa in one; docs/surrogate.md, "Stop 52".)
 TEST(SurrogateLaw, ACatchUpFollowsTheMotionsPathNotTheStraightLineToItsEnd) {
   auto law = surrogate_law(settings(200));
   const LiveCellModel model(*shared().cell, LiveDemSettings{});

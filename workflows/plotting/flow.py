@@ -75,7 +75,7 @@ def smoothed_stress_error(snapshot, reference):
     at the reference's points. The grid's forces see a point's stress only through its B-spline
     neighbourhood, and a dense packing's pressure swings from 0 to kPa within a fraction of a percent
     of volume, so two runs can put a column's weight on different points of the same neighbourhood
-    (README, "Stop 52" under the state-keyed surrogate); this measure does not count that."""
+    (docs/surrogate.md, "Stop 52"); this measure does not count that."""
     width = reference.spacing()
     b = smoothed_stress(reference, reference.xy, width)
     norm = np.linalg.norm(b)
