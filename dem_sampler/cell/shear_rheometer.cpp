@@ -13,13 +13,17 @@
 namespace grainbank::dem {
 namespace {
 
-void check(const RheometerSettings& s) {
+void check(const RheometerSettings& s, const Material& material) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("rheometer: " + what); };
   if (!(s.inertial_number > 0) || !std::isfinite(s.inertial_number)) fail("inertial_number: expected a positive number");
   if (!(s.normal_stress > 0) || !std::isfinite(s.normal_stress)) fail("normal_stress: expected a positive stress [Pa]");
   if (!(s.strain > 0) || !std::isfinite(s.strain)) fail("strain: expected a positive number");
   if (!(s.steady_from >= 0 && s.steady_from < s.strain)) fail("steady_from: expected a strain in [0, strain)");
-  if (!(s.q_t > 0) || !std::isfinite(s.q_t)) fail("q_t: expected a positive number");
+  try {
+    require_stable_time_step_factor(s.q_t, material.contact.restitution);
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("q_t: ") + e.what());
+  }
 }
 
 // Sums over one block of the steady part.
@@ -31,7 +35,7 @@ struct Block {
 }  // namespace
 
 RheometerResult shear_at_inertial_number(DemCell& cell, const RheometerSettings& s) {
-  check(s);
+  check(s, cell.material());
   const std::vector<double>& r = cell.radii();
   const double diameter = 2 * std::accumulate(r.begin(), r.end(), 0.0) / static_cast<double>(r.size());
   const double rate = s.inertial_number * std::sqrt(s.normal_stress / cell.material().density) / diameter;

@@ -76,6 +76,16 @@ TEST(ShearRheometer, BadSettingsAreRefused) {
   s.inertial_number = 0.01;
   s.steady_from = s.strain;
   EXPECT_THROW(shear_at_inertial_number(cell, s), std::invalid_argument);
+  s = RheometerSettings{};
+  s.normal_stress = 1000;
+  s.inertial_number = 0.01;
+  s.q_t = 1.01 * max_time_step_factor(cell.material().contact.restitution);  // beyond what its dashpots allow
+  try {
+    shear_at_inertial_number(cell, s);
+    FAIL() << "Q_t " << s.q_t << " accepted";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("rheometer: q_t: expected a number in (0, "), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
