@@ -12,13 +12,17 @@ namespace {
 
 Mat3 symmetric_part(const Mat3& m) { return 0.5 * (m + m.transpose()); }
 
-void check(const RegenerationSettings& s) {
-  auto fail = [](const char* what) { throw std::invalid_argument(std::string("regeneration: ") + what); };
+void check(const RegenerationSettings& s, const Material& material) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("regeneration: " + what); };
   if (!(s.tolerance_fraction > 0 && s.tolerance_fraction < 1)) fail("tolerance_fraction: expected a number in (0, 1)");
   if (!(s.scale_floor > 0 && s.scale_floor <= 1)) fail("scale_floor: expected a number in (0, 1]");
   if (!(s.inertial_number > 0) || !std::isfinite(s.inertial_number)) fail("inertial_number: expected a positive number");
   if (s.max_servo_steps < 1) fail("max_servo_steps: expected at least 1");
-  if (!(s.q_t > 0) || !std::isfinite(s.q_t)) fail("q_t: expected a positive number");
+  try {
+    require_stable_time_step_factor(s.q_t, material.contact.restitution);
+  } catch (const std::invalid_argument& e) {
+    fail(std::string("q_t: ") + e.what());
+  }
 }
 
 }  // namespace
@@ -43,7 +47,7 @@ std::int64_t break_most_tensile_bonds(CellState& state, const Mat3& stress, std:
 }
 
 Regeneration regenerate(const DemCell& worn, CellState fresh, const RegenerationSettings& settings) {
-  check(settings);
+  check(settings, worn.material());
   const Mat3 target = symmetric_part(worn.stress());
   const double damage = worn.measures().damage;
   const auto keep = static_cast<std::int64_t>(std::llround((1 - damage) * static_cast<double>(fresh.initial_bond_count)));

@@ -141,6 +141,9 @@ TEST(Regeneration, BadSettingsAreRefused) {
   s = RegenerationSettings{};
   s.max_servo_steps = 0;
   EXPECT_THROW(regenerate(worn, worn.state(), s), std::invalid_argument);
+  s = RegenerationSettings{};
+  s.q_t = 1.01 * max_time_step_factor(worn.material().contact.restitution);  // beyond what its dashpots allow
+  EXPECT_THROW(regenerate(worn, worn.state(), s), std::invalid_argument);
 }
 
 }  // namespace
