@@ -55,15 +55,12 @@ Setup set_up(const SampleOptions& options) {
   Setup setup{db::Library::open(options.library), nullptr, {}, 0};
   db::Library& library = setup.library;
   const std::int64_t template_id = choose_template(library, options);
-  for (std::size_t k = 0; k < plans.size(); ++k) {
-    try {
-      dem::require_stable_time_step_factor(plans[k].path.substepping.q_t, library.material().contact.restitution);
-    } catch (const std::invalid_argument& e) {
+  const double restitution = library.material().contact.restitution;
+  for (std::size_t k = 0; k < plans.size(); ++k)
+    if (const auto error = dem::time_step_factor_error(plans[k].path.substepping.q_t, restitution))
       throw common::InputError(options.paths_file.string() + ": planned path " + std::to_string(k + 1) + " of " +
-                               std::to_string(plans.size()) + ": substepping.q_t: " +
-                               e.what() + " (the library's material)");
-    }
-  }
+                               std::to_string(plans.size()) + ": substepping.q_t: " + *error +
+                               " (the library's material)");
   setup.lock = std::make_unique<db::SamplerLock>(options.library);
 
   db::Catalogue& catalogue = library.catalogue();

@@ -135,11 +135,7 @@ void DemCell::set_friction(double mu) {
 IncrementResult DemCell::advance(const Mat3& increment, double duration, const Substepping& q) {
   if (!increment.allFinite() || !(increment.determinant() > 0))
     throw std::invalid_argument("advance: the deformation increment must be finite with a positive determinant");
-  try {
-    require_stable_time_step_factor(q.q_t, material_.contact.restitution);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("advance: substepping.q_t: ") + e.what());
-  }
+  require_stable_time_step_factor(q.q_t, material_.contact.restitution, "advance: substepping.q_t");
   if (!(q.q_sigma >= 0 && q.q_sigma <= 1))
     throw std::invalid_argument("advance: expected Q_sigma in [0, 1]");
   const long n = substep_count(duration, time_step(q.q_t), q.q_n);

@@ -29,11 +29,7 @@ void check(const PreparationSpec& s, const Material& material) {
   if (!(s.inertial_number > 0 && s.inertial_number <= 0.1))
     fail("inertial_number", "a number in (0, 0.1]", s.inertial_number);
   if (!(s.local_damping >= 0 && s.local_damping < 1)) fail("local_damping", "a number in [0, 1)", s.local_damping);
-  try {
-    require_stable_time_step_factor(s.q_t, material.contact.restitution);
-  } catch (const std::invalid_argument& e) {
-    throw std::invalid_argument(std::string("preparation.q_t: ") + e.what());
-  }
+  require_stable_time_step_factor(s.q_t, material.contact.restitution, "preparation.q_t");
   if (!(s.skin > 0 && s.skin <= 1)) fail("skin", "a number in (0, 1]", s.skin);
   if (s.max_steps < 1) fail("max_steps", "a positive number", static_cast<double>(s.max_steps));
 }

@@ -13,16 +13,12 @@ namespace {
 Mat3 symmetric_part(const Mat3& m) { return 0.5 * (m + m.transpose()); }
 
 void check(const RegenerationSettings& s, const Material& material) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("regeneration: " + what); };
+  auto fail = [](const char* what) { throw std::invalid_argument(std::string("regeneration: ") + what); };
   if (!(s.tolerance_fraction > 0 && s.tolerance_fraction < 1)) fail("tolerance_fraction: expected a number in (0, 1)");
   if (!(s.scale_floor > 0 && s.scale_floor <= 1)) fail("scale_floor: expected a number in (0, 1]");
   if (!(s.inertial_number > 0) || !std::isfinite(s.inertial_number)) fail("inertial_number: expected a positive number");
   if (s.max_servo_steps < 1) fail("max_servo_steps: expected at least 1");
-  try {
-    require_stable_time_step_factor(s.q_t, material.contact.restitution);
-  } catch (const std::invalid_argument& e) {
-    fail(std::string("q_t: ") + e.what());
-  }
+  require_stable_time_step_factor(s.q_t, material.contact.restitution, "regeneration: q_t");
 }
 
 }  // namespace

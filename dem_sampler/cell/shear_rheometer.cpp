@@ -19,11 +19,7 @@ void check(const RheometerSettings& s, const Material& material) {
   if (!(s.normal_stress > 0) || !std::isfinite(s.normal_stress)) fail("normal_stress: expected a positive stress [Pa]");
   if (!(s.strain > 0) || !std::isfinite(s.strain)) fail("strain: expected a positive number");
   if (!(s.steady_from >= 0 && s.steady_from < s.strain)) fail("steady_from: expected a strain in [0, strain)");
-  try {
-    require_stable_time_step_factor(s.q_t, material.contact.restitution);
-  } catch (const std::invalid_argument& e) {
-    fail(std::string("q_t: ") + e.what());
-  }
+  require_stable_time_step_factor(s.q_t, material.contact.restitution, "rheometer: q_t");
 }
 
 // Sums over one block of the steady part.

@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "dem_sampler/cell/material.hpp"
 #include "dem_sampler/cell/types.hpp"
@@ -30,18 +32,24 @@ inline double max_time_step_factor(double restitution) {
   return kMaxTimeStepFactor * (std::sqrt(1 + zeta * zeta) - zeta);
 }
 
-// Throws std::invalid_argument("expected a number in (0, BOUND] (why), got Q_T") when q_t is not an
-// accepted factor for contact dashpots of restitution e_n; callers prefix the field's name.
-inline void require_stable_time_step_factor(double q_t, double restitution) {
+// "expected a number in (0, BOUND] (why), got Q_T" when q_t is not an accepted factor for contact
+// dashpots of restitution e_n; nothing when it is.
+inline std::optional<std::string> time_step_factor_error(double q_t, double restitution) {
   const double bound = max_time_step_factor(restitution);
-  if (q_t > 0 && q_t <= bound) return;
+  if (q_t > 0 && q_t <= bound) return std::nullopt;
   std::ostringstream msg;
   msg << "expected a number in (0, " << bound << "] (velocity Verlet is unstable beyond it on dense packings";
   if (bound < kMaxTimeStepFactor)
     msg << "; dashpots of restitution " << restitution << " lower the undamped bound " << kMaxTimeStepFactor
         << " by the factor " << bound / kMaxTimeStepFactor;
   msg << "), got " << q_t;
-  throw std::invalid_argument(msg.str());
+  return msg.str();
+}
+
+// Throws std::invalid_argument("FIELD: " + time_step_factor_error) when q_t is not accepted.
+inline void require_stable_time_step_factor(double q_t, double restitution, std::string_view field) {
+  if (const auto error = time_step_factor_error(q_t, restitution))
+    throw std::invalid_argument(std::string(field) + ": " + *error);
 }
 
 struct Substepping {

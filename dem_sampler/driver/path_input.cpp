@@ -1,8 +1,6 @@
 #include "dem_sampler/driver/path_input.hpp"
 
 #include <sstream>
-#include <stdexcept>
-#include <string>
 
 #include "common/json_input.hpp"
 
@@ -61,14 +59,12 @@ dem::Substepping read_substepping(const JsonNode& root) {
 }
 
 void require_stable_q_t(const JsonNode& holder, double q_t, double restitution) {
-  try {
-    dem::require_stable_time_step_factor(q_t, restitution);
-  } catch (const std::invalid_argument& e) {
-    if (const auto node = holder.find("q_t")) node->fail(e.what());
-    std::ostringstream msg;
-    msg << "q_t (default " << q_t << "): " << e.what();
-    holder.fail(msg.str());
-  }
+  const auto error = dem::time_step_factor_error(q_t, restitution);
+  if (!error) return;
+  if (const auto node = holder.find("q_t")) node->fail(*error);
+  std::ostringstream msg;
+  msg << "q_t (default " << q_t << "): " << *error;
+  holder.fail(msg.str());
 }
 
 double strain_rate_norm(const dem::Mat3& L) { return (0.5 * (L + L.transpose())).norm(); }
