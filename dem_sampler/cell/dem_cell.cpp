@@ -190,11 +190,15 @@ void DemCell::step_mixed(const MixedControl& c, double dt) {
 }
 
 void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
+  // A cell that has blown up must stop here with a message: a non-finite cell or position would
+  // index the Verlet bins out of range.
+  if (!h_new.allFinite() || !(h_new.determinant() > 0)) throw diverged("its cell matrix became non-finite or degenerate");
   const Mat3 hdot = (h_new - h_) / dt;
   const Mat3 L_start = hdot * h_inv_;
   const Mat3 h_mid_inv = (0.5 * (h_ + h_new)).inverse();
   const double max_displacement2 = local_damping_ > 0 ? kick_and_drift<true>(dt, L_start, h_mid_inv, h_new)
                                                       : kick_and_drift<false>(dt, L_start, h_mid_inv, h_new);
+  if (!std::isfinite(max_displacement2)) throw diverged("a sphere's position became non-finite");
   h_ = h_new;
   h_inv_ = h_.inverse();
   L_ = hdot * h_inv_;
@@ -214,6 +218,14 @@ void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
     for (std::size_t p = 0; p < n; ++p) kinetic += mass_[p] * u_[p] * u_[p].transpose();
     stress_ -= kinetic / cell_volume(h_);
   }
+}
+
+std::runtime_error DemCell::diverged(const std::string& what) const {
+  std::ostringstream msg;
+  msg << "DEM cell diverged at t = " << time_ << " s: " << what
+      << "; its drive or stress target is more than its contacts can hold at this step: lower Q_t, the strain "
+         "rate or the target stress";
+  return std::runtime_error(msg.str());
 }
 
 void DemCell::update_positions() {

@@ -16,6 +16,8 @@
 // the second term only when the kinetic-stress effect is on (seed Eq. 2).
 #pragma once
 #include <cstdint>
+#include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -133,8 +135,11 @@ class DemCell {
   void compute_forces(bool measure, double dt);
   template <std::size_t... Flags>
   static constexpr auto force_kernels(std::index_sequence<Flags...>);
-  // Moves to h_new over dt (constant ḣ); measures stress when asked.
+  // Moves to h_new over dt (constant ḣ); measures stress when asked. Throws diverged(...) when the
+  // cell or a sphere is no longer finite.
   void step_to(const Mat3& h_new, double dt, bool measure);
+  // "DEM cell diverged at t = …: WHAT; …" with what to change.
+  std::runtime_error diverged(const std::string& what) const;
   void update_positions();
   void update_shifts();
   // max_displacement2: largest squared fluctuation displacement since the last rebuild.

@@ -94,6 +94,23 @@ TEST(RunCli, InputErrorIsOneLineAndExitCodeOne) {
   EXPECT_EQ(r.err, "dem_sampler: " + cell.string() + ": /material/k_n: expected a positive number, got -5\n");
 }
 
+TEST(RunCli, ACellThatDivergesStopsWithOneLineAndLeavesTheLibraryEmpty) {
+  const testing::TempDir dir;
+  std::string crushed = kCell;
+  crushed.replace(crushed.find("\"pressure\": 1000"), 16, "\"pressure\": 1e308");
+  const auto cell = dir.write("cell.json", crushed);
+  const auto library = dir.path() / "lib";
+  const Outcome r = run_dem_sampler(dir, "prepare '" + cell.string() + "' --library '" + library.string() + "'");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("dem_sampler: " + cell.string() + ": DEM cell diverged at t = ", 0), 0u) << r.err;
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+  const Outcome listed = run_dem_sampler(dir, "prepare '" + dir.write("ok.json", kCell).string() + "' --library '" +
+                                                  library.string() + "'");
+  ASSERT_EQ(listed.exit_code, 0) << listed.err;
+  EXPECT_NE(listed.out.find("template 1 (prepared)"), std::string::npos)
+      << "the failed preparation stored no template: " << listed.out;
+}
+
 TEST(RunCli, UsageErrorIsOneLineAndExitCodeOne) {
   const testing::TempDir dir;
   const Outcome r = run_dem_sampler(dir, "run --no-such-option");

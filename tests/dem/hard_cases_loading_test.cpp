@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "dem_sampler/cell/overlap_warning.hpp"
 #include "tests/dem/dem_test_util.hpp"
@@ -165,6 +167,24 @@ TEST(HardCases, VeryHighPressureWarnsOfLargeOverlapsAndKeepsTheSeedTimeStep) {
   const DemCell gentle = prepare_cell(mat, small_spec(64, 23));
   EXPECT_LT(gentle.max_overlap(), kLargeOverlap);
   EXPECT_FALSE(large_overlap_warning(gentle).has_value());
+}
+
+TEST(HardCases, APressureNoContactCanHoldStopsWithAMessageNotACrash) {
+  // 1e308 Pa: the servo crushes the cell in its first steps until its matrix is no longer finite.
+  // Before the check a non-finite cell indexed the Verlet bins out of range (a segmentation fault).
+  PreparationSpec spec = small_spec(32, 23);
+  spec.pressure = 1e308;
+  try {
+    prepare_cell(small_material(), spec);
+    FAIL() << "a cell prepared at 1e308 Pa";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("DEM cell diverged"), std::string::npos) << what;
+    EXPECT_NE(what.find("lower Q_t, the strain rate or the target stress"), std::string::npos) << what;
+  }
+  // The same packing at a pressure its contacts hold prepares.
+  spec.pressure = 1e4;
+  EXPECT_TRUE(all_finite(prepare_cell(small_material(), spec)));
 }
 
 TEST(HardCases, RadiusRatioOneToFivePacksShearsAndKeepsEveryContact) {
