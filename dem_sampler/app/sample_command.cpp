@@ -6,11 +6,14 @@
 #include <cstring>
 #include <iostream>
 #include <memory>
+#include <optional>
+#include <string>
 #include <thread>
 
 #include "dem_sampler/sampler/paths_input.hpp"
 #include "dem_sampler/app/sample_progress.hpp"
 #include "dem_sampler/sampler/sampler.hpp"
+#include "dem_sampler/sampler/stored_path.hpp"
 #include "dem_sampler/app/test_stop_point.hpp"
 #include "common/stop_signals.hpp"
 #include "database/store/path_queue.hpp"
@@ -81,10 +84,17 @@ Setup set_up(const SampleOptions& options) {
     }
     transaction.commit();
   }
-  setup.pending = db::pending_paths(catalogue);
-  for (std::int64_t id : setup.pending) {
-    const nlohmann::json spec = nlohmann::json::parse(catalogue.path(id).spec);
-    setup.expected_records += sampler::record_count(sampler::plan_from_json(common::JsonNode(spec, "path spec")));
+  for (std::int64_t id : db::pending_paths(catalogue)) {
+    try {
+      const std::optional<sampler::PathPlan> plan = sampler::stored_plan(library, catalogue.path(id));
+      setup.expected_records += plan ? sampler::record_count(*plan) : 0;
+      setup.pending.push_back(id);
+    } catch (const common::InputError& e) {
+      // A spec an older build registered without reading it back: it fails alone, with its reason,
+      // instead of stopping this and every later run of the library.
+      catalogue.finish_path(id, db::PathStatus::failed, 0, std::string("its stored spec cannot be run: ") + e.what());
+      std::cerr << "path " << id << ": its stored spec cannot be run, marked failed: " << e.what() << "\n";
+    }
   }
   std::cerr << options.paths_file.string() << ": " << plans.size() << " path(s), " << added << " new on template "
             << template_id << "; " << setup.pending.size() << " pending path(s) in the library\n";

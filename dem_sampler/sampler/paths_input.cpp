@@ -151,6 +151,23 @@ std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& default
   return probe_paths(p);
 }
 
+// The library stores each plan as its canonical spec, and the sampler that runs it reads that spec
+// back. An entry whose fields give a spec that does not read back (a strain at an L so large that
+// the segment lasts 0 s, a rate that overflows) is refused here, at its own pointer: registered, it
+// would stay pending and stop every later `sample` of the library.
+void require_runnable(const JsonNode& entry, const std::vector<PathPlan>& plans) {
+  for (std::size_t k = 0; k < plans.size(); ++k) {
+    const nlohmann::json spec = to_json(plans[k]);
+    try {
+      plan_from_json(JsonNode(spec, "its canonical spec"));
+    } catch (const common::InputError& e) {
+      const std::string which =
+          plans.size() > 1 ? "its path " + std::to_string(k + 1) + " of " + std::to_string(plans.size()) : "its path";
+      entry.fail(which + " cannot be run: " + e.what());
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
@@ -161,12 +178,17 @@ std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
   std::vector<PathPlan> plans;
   if (const auto paths = root.find("paths")) {
     const std::size_t n = paths->array_size("an array of paths {segments | replay, ...}");
-    for (std::size_t k = 0; k < n; ++k) plans.push_back(read_path(paths->at(k), defaults));
+    for (std::size_t k = 0; k < n; ++k) {
+      const JsonNode entry = paths->at(k);
+      plans.push_back(read_path(entry, defaults));
+      require_runnable(entry, {plans.back()});
+    }
   }
   if (const auto generators = root.find("generators")) {
     const std::size_t n = generators->array_size("an array of generators {count, rate, strain, ...}");
     for (std::size_t k = 0; k < n; ++k) {
       std::vector<PathPlan> generated = read_generator(generators->at(k), defaults);
+      require_runnable(generators->at(k), generated);
       plans.insert(plans.end(), generated.begin(), generated.end());
     }
   }
@@ -174,6 +196,7 @@ std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
     const std::size_t n = probes->array_size("an array of state probes {bases, depths, psi, beta, rates, ...}");
     for (std::size_t k = 0; k < n; ++k) {
       std::vector<PathPlan> probed = read_probes(probes->at(k), defaults);
+      require_runnable(probes->at(k), probed);
       plans.insert(plans.end(), probed.begin(), probed.end());
     }
   }

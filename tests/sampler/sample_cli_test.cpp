@@ -6,6 +6,8 @@
 #include <csignal>
 #include <regex>
 
+#include <nlohmann/json.hpp>
+
 #include "tests/sampler/sampler_test_util.hpp"
 
 namespace grainbank::sampler::test {
@@ -217,11 +219,39 @@ TEST_F(SampleCli, InvalidPathsFileLeavesTheLibraryUntouched) {
             std::string::npos)
       << u.err;
   EXPECT_NE(u.err.find("got 0.2 (the library's material)"), std::string::npos) << u.err;
+  // Fields that pass their own checks but give a segment of 0 s (a strain at an enormous L).
+  // Registered, such a path could never run, and it would stop every later sample of the library.
+  const fs::path instant = here_.write("instant.json", R"({"record_interval": 2e-4, "paths": [
+    {"segments": [{"L": [[0, 1], [0, 0]], "duration": 1e-3}]},
+    {"segments": [{"L": [[1e308, 0], [0, 0]], "strain": 0.002}]}]})");
+  const Outcome i = run(dem_sampler({"sample", instant.string(), "--library", lib.string()}), here_.path());
+  EXPECT_EQ(i.exit_code, 1);
+  EXPECT_EQ(i.err.rfind("dem_sampler: " + instant.string() + ": /paths/1: its path cannot be run: ", 0), 0u) << i.err;
+  EXPECT_NE(i.err.find("/segments/0/duration: expected a positive number"), std::string::npos) << i.err;
   std::map<fs::path, std::string> after;
   for (const auto& e : fs::recursive_directory_iterator(lib))
     if (e.is_regular_file()) after[e.path()] = slurp(e.path());
   EXPECT_TRUE(before == after) << "library files changed";
   EXPECT_EQ(path_rows(lib).size(), 6u);
+}
+
+TEST_F(SampleCli, AStoredSpecThatCannotRunFailsAloneAndTheOtherPathsAreSampled) {
+  // A library an older build let take a path of 0 s: registered, never runnable.
+  const fs::path lib = library();
+  {
+    db::Library library = db::Library::open(lib);
+    const nlohmann::json instant = {{"record_interval", 2e-4},
+                                    {"segments", {{{"L", {{1.0, 0.0}, {0.0, 0.0}}}, {"duration", 0.0}}}}};
+    library.add_path(1, instant, library.material());
+  }
+  const Outcome r = sample(lib, {"--threads", "1"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("path 1: its stored spec cannot be run, marked failed: "), std::string::npos) << r.err;
+  const auto rows = path_rows(lib);
+  ASSERT_EQ(rows.size(), 7u);
+  EXPECT_EQ(rows[0].status, db::PathStatus::failed);
+  EXPECT_NE(rows[0].error.find("/segments/0/duration: expected a positive number"), std::string::npos) << rows[0].error;
+  for (std::size_t k = 1; k < rows.size(); ++k) EXPECT_EQ(rows[k].status, db::PathStatus::done) << "path " << rows[k].id;
 }
 
 TEST_F(SampleCli, PrepareIsIdempotentAndRefusesAnotherMaterial) {
