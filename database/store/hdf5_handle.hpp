@@ -72,7 +72,9 @@ template <> inline hid_t native_type<std::int64_t>() { return H5T_NATIVE_INT64; 
 template <> inline hid_t native_type<std::uint32_t>() { return H5T_NATIVE_UINT32; }
 template <> inline hid_t native_type<std::uint8_t>() { return H5T_NATIVE_UINT8; }
 
-// Fixed-size arrays of rank 1 (columns = 0) or 2 (rows × columns), C order.
+// Fixed-size arrays of rank 1 (columns = 0) or 2 (rows × columns), C order, each stored as one chunk
+// with a Fletcher-32 checksum (an empty one contiguous): a damaged byte fails the read. Arrays that
+// older builds wrote contiguous, without a checksum, read the same.
 template <class T>
 void write_array(const Object& parent, const std::string& name, const std::vector<T>& data, hsize_t columns);
 // Reads an array written by write_array; throws unless its shape is rows × columns (any rows).

@@ -49,10 +49,18 @@ TEST_F(StoreErrors, TruncatedShardNamesTheFile) {
   expect_error([&] { library.template_cell(template_id_); }, {shard_file().string()});
 }
 
+// Where the chunk holding `row` of `dataset` starts in its file.
+haddr_t chunk_address(const h5::Object& dataset, hsize_t row) {
+  haddr_t address = HADDR_UNDEF;
+  const hsize_t at[2] = {row, 0};
+  EXPECT_GE(H5Dget_chunk_info_by_coord(dataset.id(), at, nullptr, &address, nullptr), 0) << dataset.name();
+  return address;
+}
+
 // Readers accept a file shorter than the space HDF5 allocated (a writer killed in its flush leaves
 // it so), but data beyond its end reads as zeros, which neither a contiguous array nor Fletcher-32 (its
 // checksum of zeros is zero) rejects: such a read fails, naming the truncation, instead of returning
-// zeros. The file ends with the data read: a contiguous array, then a table's last chunk.
+// zeros. The file ends with the data read: an array's chunk, then a table's last chunk.
 TEST(CutShortFile, DataBeyondTheEndIsRefusedNotReadAsZeros) {
   TempDir tmp;
   const std::filesystem::path file = tmp.path() / "cut.h5";
@@ -65,13 +73,10 @@ TEST(CutShortFile, DataBeyondTheEndIsRefusedNotReadAsZeros) {
     h5::flush(root);
     h5::write_array(root, "array", values, 0);
     h5::flush(root);
-    array_start = H5Dget_offset(h5::open_dataset(root, "array").id());
+    array_start = chunk_address(h5::open_dataset(root, "array"), 0);
     h5::append_rows(table, std::vector<double>(4, 3.5));
     h5::flush(root);
-    haddr_t address = HADDR_UNDEF;
-    const hsize_t last[2] = {2, 0};
-    ASSERT_GE(H5Dget_chunk_info_by_coord(table.id(), last, nullptr, &address, nullptr), 0);
-    chunk_start = address;
+    chunk_start = chunk_address(table, 2);
   }
   ASSERT_GT(chunk_start, array_start + values.size() * sizeof(double) - 1) << "the last chunk is not after the array";
   std::filesystem::resize_file(file, chunk_start);  // the last chunk is lost
@@ -84,6 +89,55 @@ TEST(CutShortFile, DataBeyondTheEndIsRefusedNotReadAsZeros) {
   std::filesystem::resize_file(file, array_start + 8);  // the array is cut
   const h5::Object root = h5::open_file(file, false);
   expect_error([&] { h5::read_array<double>(root, "array", 0); }, {file.string(), "/array", "truncated"});
+}
+
+// A stored cell's arrays carry a checksum: one damaged byte fails the read, naming the file and
+// the array, instead of returning another state (before stop 59 a restart with a byte of a live
+// cell's velocity flipped resumed without a word, and ran differently).
+TEST(DamagedArray, AFlippedByteIsRefusedNotRead) {
+  TempDir tmp;
+  const std::filesystem::path file = tmp.path() / "cell.h5";
+  const std::vector<double> values(750, 0.25);
+  hsize_t start = 0;
+  {
+    const h5::Object root = h5::create_file(file);
+    h5::write_array(root, "velocity", values, 3);
+    h5::flush(root);
+    start = chunk_address(h5::open_dataset(root, "velocity"), 0);
+  }
+  {
+    const h5::Object root = h5::open_file(file, false);
+    EXPECT_EQ(h5::read_array<double>(root, "velocity", 3), values);
+  }
+  {
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(static_cast<std::streamoff>(start + 3005));  // a mantissa byte of one of the doubles
+    char byte = 0;
+    f.read(&byte, 1);
+    byte = static_cast<char>(byte ^ 0xFF);
+    f.seekp(static_cast<std::streamoff>(start + 3005));
+    f.write(&byte, 1);
+  }
+  const h5::Object root = h5::open_file(file, false);
+  expect_error([&] { h5::read_array<double>(root, "velocity", 3); }, {file.string(), "/velocity", "cannot read"});
+}
+
+// Arrays written by older builds, contiguous and without a checksum, read as before.
+TEST(DamagedArray, AContiguousArrayOfAnOlderBuildStillReads) {
+  TempDir tmp;
+  const std::filesystem::path file = tmp.path() / "old.h5";
+  const std::vector<double> values{1.5, -2.5, 3.25, 4.0, 5.5, 6.75};
+  {
+    const h5::Object root = h5::create_file(file);
+    const hsize_t dims[2] = {2, 3};
+    const hid_t space = H5Screate_simple(2, dims, nullptr);
+    const hid_t data = H5Dcreate2(root.id(), "h", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    ASSERT_GE(H5Dwrite(data, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data()), 0);
+    H5Dclose(data);
+    H5Sclose(space);
+  }
+  const h5::Object root = h5::open_file(file, false);
+  EXPECT_EQ(h5::read_array<double>(root, "h", 3), values);
 }
 
 TEST_F(StoreErrors, OverwrittenShardHeaderNamesTheFile) {
