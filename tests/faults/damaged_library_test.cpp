@@ -57,6 +57,48 @@ TEST_F(LibraryFaults, CorruptedRecordChunkIsReportedPreciselyAndNothingElse) {
   EXPECT_NO_THROW(opened.template_cell(1));
 }
 
+// A template's arrays carry a checksum (since stop 59): one flipped byte of its sphere positions is
+// reported by verify, naming the file and the template, and the template is refused on reading
+// instead of starting paths from another packing. Before, verify called such a library clean.
+TEST_F(LibraryFaults, AFlippedByteOfATemplateIsReportedAndRefused) {
+  const fs::path lib = fresh_library("lib", true);
+  const fs::path shard = lib / "shards" / "templates.h5";
+  std::string object;
+  haddr_t start = HADDR_UNDEF;
+  {
+    const hid_t file = H5Fopen(shard.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+    ASSERT_GE(file, 0);
+    char token[64] = {};
+    ASSERT_GE(H5Lget_name_by_idx(file, "/templates", H5_INDEX_NAME, H5_ITER_INC, 0, token, sizeof token, H5P_DEFAULT), 0);
+    object = std::string("/templates/") + token;
+    const hid_t positions = H5Dopen2(file, (object + "/reduced_position").c_str(), H5P_DEFAULT);
+    ASSERT_GE(positions, 0);
+    const hsize_t first[2] = {0, 0};
+    ASSERT_GE(H5Dget_chunk_info_by_coord(positions, first, nullptr, &start, nullptr), 0) << "a chunked, checked array";
+    H5Dclose(positions);
+    H5Fclose(file);
+  }
+  {
+    std::fstream f(shard, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(static_cast<std::streamoff>(start + 21));
+    char byte = 0;
+    f.read(&byte, 1);
+    byte = static_cast<char>(byte ^ 0xFF);
+    f.seekp(static_cast<std::streamoff>(start + 21));
+    f.write(&byte, 1);
+  }
+  const Verification v = celldb_verify(lib, false, here_.path());
+  EXPECT_EQ(v.exit_code, 1);
+  ASSERT_EQ(v.report["findings"].size(), 1u) << v.report.dump(1);
+  const auto& finding = v.report["findings"][0];
+  EXPECT_EQ(finding["file"], shard.string());
+  EXPECT_NE(finding.dump().find(object), std::string::npos) << finding.dump();
+  EXPECT_NE(finding["message"].get<std::string>().find("checksum"), std::string::npos) << finding.dump();
+  db::Library opened = db::Library::open(lib);
+  EXPECT_THROW(opened.template_cell(1), db::StoreError);
+  for (const auto& [id, records] : *reference_) EXPECT_EQ(opened.records(id), records) << "path " << id;
+}
+
 TEST_F(LibraryFaults, CorruptedCataloguePageIsReportedNamingTheCatalogue) {
   const fs::path lib = fresh_library("lib", true);
   const fs::path catalogue = lib / "catalogue.sqlite";
