@@ -192,7 +192,8 @@ void DemCell::step_mixed(const MixedControl& c, double dt) {
 void DemCell::step_to(const Mat3& h_new, double dt, bool measure) {
   // A cell that has blown up must stop here with a message: a non-finite cell or position would
   // index the Verlet bins out of range.
-  if (!h_new.allFinite() || !(h_new.determinant() > 0)) throw diverged("its cell matrix became non-finite or degenerate");
+  if (!h_new.allFinite() || !(h_new.determinant() > 0))
+    throw diverged("its cell matrix became non-finite or degenerate");
   const Mat3 hdot = (h_new - h_) / dt;
   const Mat3 L_start = hdot * h_inv_;
   const Mat3 h_mid_inv = (0.5 * (h_ + h_new)).inverse();

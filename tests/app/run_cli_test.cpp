@@ -104,11 +104,11 @@ TEST(RunCli, ACellThatDivergesStopsWithOneLineAndLeavesTheLibraryEmpty) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(r.err.rfind("dem_sampler: " + cell.string() + ": DEM cell diverged at t = ", 0), 0u) << r.err;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
-  const Outcome listed = run_dem_sampler(dir, "prepare '" + dir.write("ok.json", kCell).string() + "' --library '" +
+  const Outcome healthy = run_dem_sampler(dir, "prepare '" + dir.write("ok.json", kCell).string() + "' --library '" +
                                                   library.string() + "'");
-  ASSERT_EQ(listed.exit_code, 0) << listed.err;
-  EXPECT_NE(listed.out.find("template 1 (prepared)"), std::string::npos)
-      << "the failed preparation stored no template: " << listed.out;
+  ASSERT_EQ(healthy.exit_code, 0) << healthy.err;
+  EXPECT_NE(healthy.out.find("template 1 (prepared)"), std::string::npos)
+      << "the failed preparation stored no template: " << healthy.out;
 }
 
 TEST(RunCli, UsageErrorIsOneLineAndExitCodeOne) {

@@ -69,7 +69,9 @@ TEST_F(LibraryFaults, AFlippedByteOfATemplateIsReportedAndRefused) {
     const hid_t file = H5Fopen(shard.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
     ASSERT_GE(file, 0);
     char token[64] = {};
-    ASSERT_GE(H5Lget_name_by_idx(file, "/templates", H5_INDEX_NAME, H5_ITER_INC, 0, token, sizeof token, H5P_DEFAULT), 0);
+    ASSERT_GE(H5Lget_name_by_idx(file, "/templates", H5_INDEX_NAME, H5_ITER_INC, 0, token, sizeof token,
+                                 H5P_DEFAULT),
+              0);
     object = std::string("/templates/") + token;
     const hid_t positions = H5Dopen2(file, (object + "/reduced_position").c_str(), H5P_DEFAULT);
     ASSERT_GE(positions, 0);
