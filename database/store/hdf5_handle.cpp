@@ -167,15 +167,15 @@ void Object::fail(const std::string& what) const {
 
 Object create_file(const std::filesystem::path& file) {
   const Object fapl = file_access();
-  return file_object(H5Fcreate(file.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.id()), file, "cannot create the HDF5 shard");
+  return file_object(H5Fcreate(file.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, fapl.id()), file, "cannot create the HDF5 file");
 }
 
 Object open_file(const std::filesystem::path& file, bool writable) {
-  if (!std::filesystem::exists(file)) throw StoreError(file, "shard file is missing");
+  if (!std::filesystem::exists(file)) throw StoreError(file, "HDF5 file is missing");
   const Object fapl = file_access();
   if (!writable && !open_in_this_process(file)) allow_concurrent_writer(fapl);
   const hid_t id = H5Fopen(file.c_str(), writable ? H5F_ACC_RDWR : H5F_ACC_RDONLY, fapl.id());
-  return file_object(id, file, "not a readable HDF5 shard (truncated, corrupt, or open for writing elsewhere)");
+  return file_object(id, file, "not a readable HDF5 file (truncated, corrupt, or open for writing elsewhere)");
 }
 
 namespace {

@@ -225,7 +225,7 @@ std::runtime_error DemCell::diverged(const std::string& what) const {
   std::ostringstream msg;
   msg << "DEM cell diverged at t = " << time_ << " s: " << what
       << "; its drive or stress target is more than its contacts can hold at this step: lower Q_t, the strain "
-         "rate or the target stress";
+         "rate or the target stress, or check that the material's density and stiffness are physical";
   return std::runtime_error(msg.str());
 }
 

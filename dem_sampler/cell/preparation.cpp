@@ -54,7 +54,9 @@ long settle_at_pressure(DemCell& cell, const Material& material, const Preparati
     const CellMeasures m = cell.measures();
     if (!m.stress.allFinite()) {
       std::ostringstream msg;
-      msg << stage << ": stress became non-finite after " << step << " steps; lower preparation.q_t";
+      msg << stage << ": stress became non-finite after " << step
+          << " steps (the cell diverged): lower preparation.q_t, or check that material.density, material.k_n "
+             "and preparation.pressure are physical";
       throw std::runtime_error(msg.str());
     }
     if (observer && step % (kCheckEvery * 20) == 0) observer(stage, step, m);

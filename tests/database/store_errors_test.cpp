@@ -147,7 +147,7 @@ TEST_F(StoreErrors, OverwrittenShardHeaderNamesTheFile) {
     f.write(garbage.data(), garbage.size());
   }
   Library library = Library::open(lib());
-  expect_error([&] { library.records(path_id_); }, {shard_file().string(), "not a readable HDF5 shard"});
+  expect_error([&] { library.records(path_id_); }, {shard_file().string(), "not a readable HDF5 file"});
 }
 
 TEST_F(StoreErrors, MissingShardNamesTheFile) {
