@@ -47,6 +47,14 @@ def fields(node, pointer=""):
         yield from fields(value, f"{pointer}/{key}")
 
 
+def member(document, pointer):
+    """The node of `document` at the JSON pointer (its parts, as strings)."""
+    node = document
+    for part in pointer:
+        node = node[int(part)] if isinstance(node, list) else node[part]
+    return node
+
+
 def variants(document):
     """(pointer, what, mutated copy) for every field and every object of `document`."""
     for pointer, value in fields(document):
@@ -54,9 +62,7 @@ def variants(document):
         replacements = VALUES if not isinstance(value, (dict, list)) else [("string", "x"), ("null", None), ("1", 1)]
         for what, replacement in replacements + [("removed", KeyError)]:
             mutated = copy.deepcopy(document)
-            parent = mutated
-            for part in parts[:-1]:
-                parent = parent[int(part)] if isinstance(parent, list) else parent[part]
+            parent = member(mutated, parts[:-1])
             last = int(parts[-1]) if isinstance(parent, list) else parts[-1]
             if replacement is KeyError:
                 del parent[last]
@@ -66,10 +72,7 @@ def variants(document):
     for pointer, value in [("", document)] + list(fields(document)):
         if isinstance(value, dict):
             mutated = copy.deepcopy(document)
-            target = mutated
-            for part in pointer.split("/")[1:]:
-                target = target[int(part)] if isinstance(target, list) else target[part]
-            target["unknown_key"] = 1
+            member(mutated, pointer.split("/")[1:])["unknown_key"] = 1
             yield pointer or "/", "unknown key", mutated
 
 
