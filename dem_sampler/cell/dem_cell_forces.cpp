@@ -7,7 +7,8 @@
 // evaluated and masked by selects, so the compiler vectorizes it (`omp simd`, the build's instruction
 // set) and four pairs advance at once in 256-bit vectors. Pair data are columns
 // (pair_table.hpp); sphere data are gathered. The second pass adds the forces to the spheres, in
-// pair order: it is scalar because two pairs of a block may share a sphere.
+// pair order: it is scalar because two pairs of a block may share a sphere, and it stores sphere i's
+// sums once per run of pairs that share i.
 #include <array>
 #include <utility>
 
@@ -136,13 +137,26 @@ GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
         active += interacting ? 1 : 0;
       }
     }
-    for (std::size_t q = 0; q < m; ++q) {
-      const std::uint32_t i = P.i[begin + q], j = P.j[begin + q];
+    // Every pair has j > i, so no pair of a run sharing i touches i as its j: i's sums stay in
+    // registers over the run and are stored once, with the additions in the same order as one by one
+    // (the list is sorted by i, so runs are about as long as a sphere's pair count).
+    std::size_t q = 0;
+    while (q < m) {
+      const std::uint32_t i = P.i[begin + q];
+      double fi[3] = {force_[i][0], force_[i][1], force_[i][2]};
+      double ti[3] = {torque_[i][0], torque_[i][1], torque_[i][2]};
+      for (; q < m && P.i[begin + q] == i; ++q) {
+        const std::uint32_t j = P.j[begin + q];
+        for (int a = 0; a < 3; ++a) {
+          force_[j][a] += out.force[a][q];
+          torque_[j][a] += out.torque_j[a][q];
+          fi[a] -= out.force[a][q];
+          ti[a] += out.torque_i[a][q];
+        }
+      }
       for (int a = 0; a < 3; ++a) {
-        force_[j][a] += out.force[a][q];
-        force_[i][a] -= out.force[a][q];
-        torque_[i][a] += out.torque_i[a][q];
-        torque_[j][a] += out.torque_j[a][q];
+        force_[i][a] = fi[a];
+        torque_[i][a] = ti[a];
       }
     }
   }
