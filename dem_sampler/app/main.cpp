@@ -134,8 +134,8 @@ int main(int argc, char** argv) {
                   << "solid fraction: " << r.solid_fraction << ", pressure: " << r.pressure << "\n"
                   << "list rebuilds: " << r.list_builds << ", cell flips: " << r.flips << "\n";
         if (bench.bonds) std::cout << "bonds: " << r.bonds << "\n";
-        std::cout << "peer: LAMMPS 9.1 M particle-steps/s on this kind of machine, one core (DESIGN.md); for a\n"
-                  << "side-by-side ratio run workflows/benchmarks/dem_vs_lammps.sh\n";
+        std::cout << "peers: LAMMPS 9.1 M, YADE 3.1 M particle-steps/s on this kind of machine, one core\n"
+                  << "(shared/peers/README.md); for side-by-side ratios run workflows/benchmarks/dem_vs_peers.sh\n";
       }
     }
   } catch (const std::exception& e) {
