@@ -10,6 +10,11 @@ namespace grainbank::mpm {
 Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, double removal_time)
     : shape_(std::move(shape)), contact_(contact), velocity_(velocity), removal_time_(removal_time) {
   check(shape_);
+  box_min_ = box_max_ = shape_.vertices.front();
+  for (const Vec2& v : shape_.vertices) {
+    box_min_ = box_min_.cwiseMin(v);
+    box_max_ = box_max_.cwiseMax(v);
+  }
   if (!(contact_.k_n > 0) || !std::isfinite(contact_.k_n)) throw std::invalid_argument("k_n: expected a positive number");
   if (!(contact_.k_t >= 0) || !std::isfinite(contact_.k_t)) throw std::invalid_argument("k_t: expected a number >= 0");
   if (!(contact_.friction >= 0) || !std::isfinite(contact_.friction))
@@ -45,6 +50,11 @@ std::string Obstacle::penetration_message(double overlap, double radius, double 
 std::optional<Obstacle::Touch> Obstacle::touching(const Vec2& x, double radius, double t) const {
   // Work in the obstacle's frame: it only translates.
   const Vec2 x_local = x - velocity_ * t;
+  // Outside the box by more than the radius (with a margin for the rounding of the distance below):
+  // not inside, and farther than the radius from every edge.
+  const double reach = radius * (1 + 1e-9);
+  if ((x_local.array() < box_min_.array() - reach).any() || (x_local.array() > box_max_.array() + reach).any())
+    return std::nullopt;
   const Vec2 to_point = x_local - closest_point(shape_, x_local);
   const double d = to_point.norm();
   const bool inside = contains(shape_, x_local);

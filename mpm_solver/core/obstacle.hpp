@@ -78,6 +78,9 @@ class Obstacle {
   std::string penetration_message(double overlap, double radius, double mass, const Vec2& v) const;
 
   Polyline shape_;
+  // The shape's bounding box: a disk farther from it than its radius cannot touch, and most points
+  // of a body are, so they skip the exact test.
+  Vec2 box_min_, box_max_;
   ContactParameters contact_;
   Vec2 velocity_;
   double removal_time_;
