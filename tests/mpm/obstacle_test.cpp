@@ -1,0 +1,82 @@
+// An obstacle's contact with a point's disk against the distance computed here from the shape alone:
+// zero force where the disk stays clear, k_n × overlap along the outward normal where it overlaps by
+// at most kMaxPenetration of its radius, and a PenetrationError beyond. Centres sweep a grid around
+// the shape, its corners and the band just outside its bounding box included, so a shortcut that
+// skipped a disk which does touch would fail here.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "mpm_solver/core/obstacle.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+constexpr double kRadius = 0.1, kStiffness = 1e5;
+
+// Distance from x to the segment a–b.
+double segment_distance(const Vec2& x, const Vec2& a, const Vec2& b) {
+  const Vec2 ab = b - a;
+  const double s = std::clamp((x - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (x - (a + s * ab)).norm();
+}
+
+// Expected force magnitude on a disk at distance d outside the shape (nullopt: a penetration).
+std::optional<double> expected_force(double d, bool inside) {
+  const double overlap = inside ? kRadius + d : kRadius - d;
+  if (overlap <= 0) return 0.0;
+  if (overlap > kMaxPenetration * kRadius) return std::nullopt;
+  return kStiffness * overlap;
+}
+
+void sweep(Obstacle& obstacle, const Vec2& shift, double t, const auto& distance_and_inside) {
+  int touching = 0, clear = 0, refused = 0;
+  std::uint32_t id = 0;
+  obstacle.reserve_points(200 * 200);
+  for (int i = 0; i < 200; ++i)
+    for (int j = 0; j < 200; ++j) {
+      const Vec2 local(-0.35 + 1.7 * i / 199.0, -0.35 + 1.7 * j / 199.0);
+      const auto [d, inside] = distance_and_inside(local);
+      if (std::abs(d - kRadius) < 1e-9 || std::abs(d - 0.5 * kRadius) < 1e-9) continue;  // ties
+      const std::optional<double> expected = expected_force(d, inside);
+      const auto force = [&] {
+        return obstacle.contact_force(id++, local + shift, [] { return Vec2(0, 0); }, kRadius, 1.0, t, 1e-4);
+      };
+      if (!expected) {
+        EXPECT_THROW(force(), PenetrationError) << "centre " << local.transpose();
+        ++refused;
+        continue;
+      }
+      const double magnitude = force().norm();
+      EXPECT_NEAR(magnitude, *expected, 1e-9 * kStiffness) << "centre " << local.transpose() << ", distance " << d;
+      ++(magnitude > 0 ? touching : clear);
+    }
+  // The sweep reaches every case.
+  EXPECT_GT(touching, 100);
+  EXPECT_GT(clear, 100);
+  EXPECT_GT(refused, 100);
+}
+
+TEST(Obstacle, AClosedSquareTouchesExactlyTheDisksThatOverlapIt) {
+  const Vec2 corners[] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  Obstacle square(Polyline{{corners[0], corners[1], corners[2], corners[3]}, true}, ContactParameters{kStiffness, 0, 0, 0});
+  sweep(square, Vec2::Zero(), 0.0, [&](const Vec2& x) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int k = 0; k < 4; ++k) d = std::min(d, segment_distance(x, corners[k], corners[(k + 1) % 4]));
+    const bool inside = x.x() > 0 && x.x() < 1 && x.y() > 0 && x.y() < 1;
+    return std::pair{d, inside};
+  });
+}
+
+TEST(Obstacle, AMovingLineTouchesExactlyTheDisksThatOverlapItWhereItIsNow) {
+  // An open segment has a flat bounding box; it moves by (0.3, −0.2) m/s for 2 s.
+  const Vec2 a(0, 0.5), b(1, 0.5), velocity(0.3, -0.2);
+  const double t = 2;
+  Obstacle line(Polyline{{a, b}, false}, ContactParameters{kStiffness, 0, 0, 0}, velocity);
+  sweep(line, velocity * t, t, [&](const Vec2& x) { return std::pair{segment_distance(x, a, b), false}; });
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
