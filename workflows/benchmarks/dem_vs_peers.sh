@@ -8,6 +8,7 @@
 # Usage: workflows/benchmarks/dem_vs_peers.sh [SHEAR_STEPS] [REPEATS]
 # Needs dem_sampler in the build directory of workflows/env.sh.
 set -euo pipefail
+shopt -s inherit_errexit  # a peer that fails inside $(...) stops the script
 steps=${1:-30000}
 repeats=${2:-3}
 here=$(cd "$(dirname "$0")" && pwd)
@@ -30,14 +31,16 @@ yade_rate() {  # its script prints "shear: N steps T s -> R steps/s, P particle-
 grainbank_rate() {
   "$dem" bench --steps "$steps" "$@" --json | awk -F': ' '/particle_steps_per_second/ {gsub(",","",$2); print $2}'
 }
+# A rate that is not a positive number means the code ran but printed no figure: stop, naming it.
+positive() { awk -v r="$2" 'BEGIN {exit !(r + 0 > 0)}' || { echo "$1 gave no particle-steps/s figure" >&2; exit 1; }; echo "$2"; }
 ratio() { [ "$2" = - ] && echo - || awk -v g="$1" -v p="$2" 'BEGIN {printf "%.3f", g / p}'; }
 
 printf "%-4s %12s %12s %12s %16s %14s %12s\n" run grainbank "+bonds" LAMMPS "grainbank/LAMMPS" YADE "grainbank/YADE"
 for r in $(seq 1 "$repeats"); do
   l=-; y=-
-  [ $have_lammps = 1 ] && l=$(lammps_rate)
-  g=$(grainbank_rate); b=$(grainbank_rate --bonds)
-  [ $have_yade = 1 ] && y=$(yade_rate)
+  if [ $have_lammps = 1 ]; then l=$(positive LAMMPS "$(lammps_rate)"); fi
+  g=$(positive grainbank "$(grainbank_rate)"); b=$(positive grainbank "$(grainbank_rate --bonds)")
+  if [ $have_yade = 1 ]; then y=$(positive YADE "$(yade_rate)"); fi
   printf "%-4s %12.4g %12.4g %12s %16s %14s %12s\n" "$r" "$g" "$b" "$l" "$(ratio "$g" "$l")" "$y" "$(ratio "$g" "$y")"
 done
 echo "(particle-steps/s over the shear phase, one core; ratios of the unbonded cell, measured in turn)"
