@@ -1,0 +1,162 @@
+// The surrogate law in a solver and a scene (issue 13): a restart continues bit for bit, and a
+// scene names the law and its keys are checked.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tests/mpm/surrogate_law_fixture.hpp"
+#include "common/json_input.hpp"
+#include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/io/restart.hpp"
+#include "mpm_solver/io/scene_input.hpp"
+
+namespace grainbank::mpm {
+namespace {
+
+using namespace surrogate_law_fixture;
+
+Solver one_point_solver(const SurrogateLawSettings& s) {
+  Solver solver(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
+  solver.add_law(surrogate_law(s));
+  solver.add_point(0, Vec2(0.3, 0.3), 0.0025, 0.025, Vec2::Zero());
+  return solver;
+}
+
+SurrogateLaw& law_of(Solver& solver) { return dynamic_cast<SurrogateLaw&>(solver.law(0)); }
+
+TEST(SurrogateLaw, ARestartContinuesBitForBit) {
+  // Compressed and sheared, then stretched: at half the motion's median estimated error the point
+  // goes live, returns, and goes live again.
+  std::vector<Mat2> motion(20, off_library_motion().front());
+  motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
+  // Live spells start from a cell servoed to the point's state, or by replay from the point's
+  // checkpoint. With the state warm start the learned samples span three steps, so a restart inside a
+  // spell must keep the steps its next sample spans.
+  for (const auto warm_start : {SurrogateLawSettings::WarmStart::state, SurrogateLawSettings::WarmStart::replay}) {
+    SCOPED_TRACE(warm_start == SurrogateLawSettings::WarmStart::state ? "state warm start" : "replay");
+    SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
+    s.warm_start = warm_start;
+    if (warm_start == SurrogateLawSettings::WarmStart::state) s.sample_span = 3;
+    Solver straight = one_point_solver(s);
+    Driver d;
+    std::vector<PointStress> expected;
+    std::vector<StressSource> sources;
+    for (const Mat2& L : motion) {
+      d(law_of(straight), L, kDt);
+      expected.push_back(d.stress);
+      sources.push_back(law_of(straight).source(0));
+    }
+    // Restart one step after the point first went live (its cell, history and learned samples
+    // matter), and one step after it first handed its cell back, before it goes live again (the kept
+    // cell or the checkpoint it will start from matters).
+    const auto live = std::find(sources.begin(), sources.end(), StressSource::live);
+    ASSERT_NE(live, sources.end());
+    const auto back = std::find(live, sources.end(), StressSource::hit);
+    ASSERT_NE(back, sources.end()) << "the point never returned to the surrogate";
+    ASSERT_NE(std::find(back, sources.end(), StressSource::live), sources.end()) << "nor went live again";
+    // And right after the spell's first step, whose successor's sample spans both (with the state
+    // warm start).
+    ASSERT_EQ(*(live + 1), StressSource::live) << "a spell lasts at least return_after steps";
+    for (const auto restart_after : {static_cast<std::size_t>(live - sources.begin()) + 1,
+                                     static_cast<std::size_t>(live - sources.begin()) + 2,
+                                     static_cast<std::size_t>(back - sources.begin()) + 1}) {
+      SCOPED_TRACE("restart after step " + std::to_string(restart_after));
+      ASSERT_LT(restart_after, motion.size());
+      Solver first = one_point_solver(s);
+      Driver e;
+      for (std::size_t k = 0; k < restart_after; ++k) e(law_of(first), motion[k], kDt);
+      const std::filesystem::path file = shared().dir.path() / "restart.h5";
+      io::write_restart(file, first);
+      Solver resumed = one_point_solver(s);
+      io::read_restart(file, resumed);
+      EXPECT_EQ(law_of(resumed).learned(), law_of(first).learned());
+      for (std::size_t k = restart_after; k < motion.size(); ++k) {
+        e(law_of(resumed), motion[k], kDt);
+        EXPECT_EQ(e.stress.in_plane, expected[k].in_plane) << "step " << k;
+        EXPECT_EQ(e.stress.zz, expected[k].zz) << "step " << k;
+        EXPECT_EQ(law_of(resumed).source(0), sources[k]) << "step " << k;
+      }
+      EXPECT_EQ(law_of(resumed).learned(), law_of(straight).learned());
+      EXPECT_EQ(law_of(resumed).damage(0), law_of(straight).damage(0));
+      // A replay after the restart starts where one in the straight run does: the same increments.
+      EXPECT_EQ(law_of(resumed).point_counters(0).warm_start_increments,
+                law_of(straight).point_counters(0).warm_start_increments -
+                    law_of(first).point_counters(0).warm_start_increments);
+    }
+  }
+}
+
+std::filesystem::path write_scene(const std::string& material_extra, const std::string& fallback_extra = "") {
+  const std::filesystem::path file = shared().dir.path() / "scene.json";
+  std::ofstream(file) << R"({
+  "grid": {"cell_size": 0.1, "cells": [6, 6]},
+  "time": {"end": 0.001, "output_interval": 0.001},
+  "integration": {"homogeneous_drive": {"L": [[-1, 2], [0, 0.5]], "origin": [0.3, 0.3]}},
+  "materials": [{"name": "snow", "law": "surrogate", "library": ")" +
+                             shared().path.string() + R"(", "template": )" +
+                             std::to_string(shared().template_id) + R"(, "tolerance": 2000, "k": 16,
+                 "fallback": {"return_after": 3)" + fallback_extra + "}" + material_extra + R"(}],
+  "regions": [{"material": "snow", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.4]}}]
+})";
+  return file;
+}
+
+TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
+  const io::Scene scene = io::load_scene(write_scene(""));
+  ASSERT_FALSE(scene.solver->points().empty());
+  const auto& law = dynamic_cast<const SurrogateLaw&>(scene.solver->law(0));
+  EXPECT_EQ(law.name(), "surrogate");
+  EXPECT_EQ(law.index().options().k, 16u);
+  EXPECT_EQ(law.index().size(), shared().dataset.samples.size());
+  // Stepped by the solver (its points updated in parallel): every point-step is answered once.
+  for (int k = 0; k < 3; ++k) scene.solver->step(kDt);
+  CouplingCounters total;
+  for (const MaterialPoint& mp : scene.solver->points()) {
+    total += law.point_counters(mp.slot);
+    EXPECT_TRUE(mp.stress.in_plane.allFinite());
+  }
+  std::printf("%zu points, 3 steps: %llu hits, %llu live updates, %llu went live\n", scene.solver->points().size(),
+              static_cast<unsigned long long>(total.hits), static_cast<unsigned long long>(total.live_updates),
+              static_cast<unsigned long long>(total.went_live));
+  EXPECT_EQ(total.hits + total.live_updates, 3 * scene.solver->points().size());
+  EXPECT_EQ(law.index().size(), shared().dataset.samples.size() + law.learned());
+  try {
+    io::load_scene(write_scene(R"(, "lookup": {"k": 4})"));
+    FAIL() << "an unknown key was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/lookup: unknown key"), std::string::npos) << e.what();
+  }
+  EXPECT_NE(law.state_warm_start(), nullptr) << "the default warm start is by state";
+  const io::Scene replaying = io::load_scene(write_scene("", R"(, "warm_start": "replay")"));
+  EXPECT_EQ(dynamic_cast<const SurrogateLaw&>(replaying.solver->law(0)).state_warm_start(), nullptr);
+  try {
+    io::load_scene(write_scene("", R"(, "warm_start": "sideways")"));
+    FAIL() << "an unknown warm start was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/fallback/warm_start"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"replay\""), std::string::npos) << e.what();
+  }
+  const std::pair<const char*, const char*> refused[] = {{R"(, "catch_up_steps": 0)", "/fallback/catch_up_steps"},
+                                                          {R"(, "catch_up_legs": 0)", "/fallback/catch_up_legs"},
+                                                          {R"(, "first_cell": "nearest")", "/fallback/first_cell"}};
+  for (const auto& [fallback, named] : refused) {
+    try {
+      io::load_scene(write_scene("", fallback));
+      FAIL() << fallback << " was accepted";
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(std::string("/materials/0") + named), std::string::npos) << e.what();
+    }
+  }
+  // A point's first cell is the template caught up by default; the library's snapshots are read only
+  // for first_cell "snapshot".
+  EXPECT_EQ(law.state_warm_start()->size(), 1u);
+  const io::Scene from_snapshots = io::load_scene(write_scene("", R"(, "first_cell": "snapshot")"));
+  EXPECT_EQ(dynamic_cast<const SurrogateLaw&>(from_snapshots.solver->law(0)).state_warm_start()->size(),
+            shared().snapshots.size() + 1);
+}
+
+}  // namespace
+}  // namespace grainbank::mpm
