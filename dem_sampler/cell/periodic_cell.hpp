@@ -1,6 +1,8 @@
 // Geometry of a tri-periodic cell. The cell matrix h has the three cell vectors as columns; a point
 // with reduced coordinates s ∈ [0,1)³ sits at x = h s. Nothing here moves particles.
 #pragma once
+#include <cmath>
+
 #include <Eigen/Core>
 
 #include "dem_sampler/cell/types.hpp"
@@ -10,6 +12,15 @@ namespace grainbank::dem {
 using IntMat3 = Eigen::Matrix3i;
 
 inline double cell_volume(const Mat3& h) { return std::abs(h.determinant()); }
+
+// Reduced coordinates s wrapped into [0, 1)³: the same point of the periodic cell.
+inline Vec3 wrapped_into_cell(Vec3 s) {
+  for (int a = 0; a < 3; ++a) {
+    s[a] -= std::floor(s[a]);
+    if (s[a] >= 1) s[a] = 0;  // floor of a value just below an integer can round up
+  }
+  return s;
+}
 
 // Distance between opposite faces, per cell vector: w_i = V / |a_j × a_k|.
 Vec3 perpendicular_widths(const Mat3& h);
