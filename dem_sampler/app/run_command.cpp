@@ -6,6 +6,7 @@
 
 #include "dem_sampler/cell/overlap_warning.hpp"
 #include "dem_sampler/driver/cell_input.hpp"
+#include "common/duration_text.hpp"
 #include "common/json_input.hpp"
 #include "dem_sampler/driver/path_driver.hpp"
 #include "dem_sampler/driver/path_input.hpp"
@@ -35,9 +36,9 @@ void report_path(long done, long total, Clock::time_point start, Clock::time_poi
   if (done < total && Clock::now() - last_report < std::chrono::milliseconds(200)) return;
   last_report = Clock::now();
   const double elapsed = seconds_since(start);
-  const double eta = done > 0 ? elapsed * static_cast<double>(total - done) / static_cast<double>(done) : 0;
+  const double eta = elapsed * static_cast<double>(total - done) / static_cast<double>(done);
   std::cerr << (overwrite ? "\r" : "") << "path: " << done << "/" << total << " increments ("
-            << 100 * done / total << "%), ETA " << static_cast<long>(eta + 0.5) << " s   "
+            << 100 * done / total << "%), ETA " << common::duration_text(eta) << "   "
             << (done == total || !overwrite ? "\n" : "") << std::flush;
 }
 

@@ -4,20 +4,9 @@
 #include <iostream>
 #include <sstream>
 
+#include "common/duration_text.hpp"
+
 namespace grainbank::app {
-namespace {
-
-std::string duration_text(double seconds) {
-  const long s = static_cast<long>(seconds + 0.5);
-  std::ostringstream out;
-  if (s >= 3600) out << s / 3600 << " h " << (s % 3600) / 60 << " min";
-  else if (s >= 60) out << s / 60 << " min " << s % 60 << " s";
-  else out << s << " s";
-  return out.str();
-}
-
-}  // namespace
-
 SampleProgress::SampleProgress(long total_paths, long total_records, bool terminal, std::string label)
     : total_paths_(total_paths), total_records_(total_records), terminal_(terminal), label_(std::move(label)) {}
 
@@ -61,7 +50,7 @@ void SampleProgress::redraw(bool force) {
   if (paths_failed_) line << " (" << paths_failed_ << " failed)";
   line << ", " << records_ << " records, " << static_cast<long>(rate + 0.5) << " records/s";
   if (total_records_ > records_ && rate > 0)
-    line << ", ETA " << duration_text(static_cast<double>(total_records_ - records_) / rate);
+    line << ", ETA " << common::duration_text(static_cast<double>(total_records_ - records_) / rate);
   std::cerr << "\r\033[K" << line.str() << std::flush;
 }
 

@@ -17,6 +17,7 @@
 #include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
 #include "mpm_solver/io/scene_input.hpp"
+#include "common/duration_text.hpp"
 #include "common/json_input.hpp"
 #include "mpm_solver/io/series_csv.hpp"
 #include "mpm_solver/io/tracked_cells.hpp"
@@ -232,8 +233,8 @@ nlohmann::json run_scene(const RunOptions& options) {
       // The ETA extrapolates this run's own progress: a resumed run started at start_time, not at 0.
       const double done = solver.time() / scene.end_time, elapsed = seconds_since(loop_start);
       const double resumed_done = (solver.time() - start_time) / (scene.end_time - start_time);
-      std::fprintf(stderr, "\rt = %.4g s (%.1f%%), step %ld, dt = %.3g s, ETA %.0f s   ", solver.time(), 100 * done,
-                   solver.steps(), dt, elapsed * (1 - resumed_done) / resumed_done);
+      std::fprintf(stderr, "\rt = %.4g s (%.1f%%), step %ld, dt = %.3g s, ETA %s   ", solver.time(), 100 * done,
+                   solver.steps(), dt, common::duration_text(elapsed * (1 - resumed_done) / resumed_done).c_str());
     }
   }
   if (root && options.progress) std::fprintf(stderr, "\n");
