@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numbers>
+#include <span>
 
 #include "dem_sampler/sampler/path_generator.hpp"
 #include "dem_sampler/sampler/state_probes.hpp"
@@ -155,7 +156,7 @@ std::vector<PathPlan> read_probes(const JsonNode& entry, const Defaults& default
 // back. An entry whose fields give a spec that does not read back (a strain at an L so large that
 // the segment lasts 0 s, a rate that overflows) is refused here, at its own pointer: registered, it
 // would stay pending and stop every later `sample` of the library.
-void require_runnable(const JsonNode& entry, const std::vector<PathPlan>& plans) {
+void require_runnable(const JsonNode& entry, std::span<const PathPlan> plans) {
   for (std::size_t k = 0; k < plans.size(); ++k) {
     const nlohmann::json spec = to_json(plans[k]);
     try {
@@ -181,7 +182,7 @@ std::vector<PathPlan> load_paths_file(const std::filesystem::path& file) {
     for (std::size_t k = 0; k < n; ++k) {
       const JsonNode entry = paths->at(k);
       plans.push_back(read_path(entry, defaults));
-      require_runnable(entry, {plans.back()});
+      require_runnable(entry, std::span(&plans.back(), 1));
     }
   }
   if (const auto generators = root.find("generators")) {
