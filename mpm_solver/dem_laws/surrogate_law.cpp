@@ -87,11 +87,13 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
 
   surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
   const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
+  bool beyond_budget_alone = false;  // a step whose own estimated error exceeds the budget
   if (budget_spent && warm_start_) {
     reanchor(p);
     step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+    beyond_budget_alone = step.hit && step.estimated_error > settings_.error_budget;
   }
-  const bool spell_on_budget = budget_spent && !warm_start_;
+  const bool spell_on_budget = (budget_spent && !warm_start_) || beyond_budget_alone;
   if (!step.hit || spell_on_budget) {
     ++p.counters.misses;
     if (spell_on_budget) ++p.counters.went_live_on_budget;

@@ -15,8 +15,10 @@
 //   the cell for its next start, and the step is asked again from that state. No live step is run:
 //   the drift the budget guards against is a state no cell carries (stop 40: a column that stood
 //   because its points drifted to a strength no cell has), and the cell, driven through the point's
-//   motion, has not drifted. With warm_start "replay" the point goes live instead, and the replay
-//   ends the drift exactly.
+//   motion, has not drifted. Only a step whose own estimated error exceeds the whole budget (possible
+//   only with a tolerance above the budget) is run live on that cell, a spell of the budget. With
+//   warm_start "replay" the point goes live instead, and the replay ends the drift exactly. Either
+//   way the errors summed between a point's cells never exceed the budget.
 // - A replay starts from the point's checkpoint: the cell of its last live spell that was itself
 //   started by replay, kept when the point returned, with the increments since then. It is the cell
 //   a replay from the template would give, to the bit, and each increment is replayed at most once.

@@ -80,10 +80,13 @@ double mean_pressure(const std::vector<app::PathRecord>& records, std::size_t fr
 }
 
 // Mixed control: simple shear whose in-plane isotropic part is servoed to a pressure. A frictional
-// packing prepared at 10 kPa, sheared at 20 /s (I ≈ 0.007, quasi-static) to 0.3 at 5 and 20 kPa: over
-// the second half its mean pressure is the target's, though the same shear at constant volume ends
-// elsewhere; every record's L is the shear plus an isotropic part no faster than the shear; and a
+// packing prepared at 10 kPa, sheared at 20 /s (I ≈ 0.007, quasi-static) to 0.3 at half and at twice
+// the pressure the same shear reaches at constant volume: over the second half its mean pressure is
+// the target's; every record's L is the shear plus an isotropic part no faster than the shear; and a
 // drive resumed from a mid-path cell repeats the records bit for bit (the servo reads only the cell).
+// The targets are set from the constant-volume pressure, not fixed: that pressure is a chaotic DEM
+// output, and a portable build's came within 6 % of the fixed 20 kPa the test once used, where a
+// shear that holds the target by itself tests nothing.
 TEST(PathDriver, APressureControlledShearFlowsAtItsPressureAndResumesExactly) {
   const dem::DemCell prepared = dem::prepare_cell(dem::test::small_material(), dem::test::small_spec(64, 21));
   Mat3 shear = Mat3::Zero();
@@ -104,12 +107,12 @@ TEST(PathDriver, APressureControlledShearFlowsAtItsPressureAndResumesExactly) {
   };
   const auto [free_path, free_records, free_states] = drive(0);
   const double constant_volume = mean_pressure(free_records, free_records.size() / 2);
-  for (const double target : {5e3, 2e4}) {
-    SCOPED_TRACE("target " + std::to_string(target) + " Pa");
+  ASSERT_GT(constant_volume, 0.0);
+  for (const double target : {0.5 * constant_volume, 2 * constant_volume}) {
+    SCOPED_TRACE("target " + std::to_string(target) + " Pa, at constant volume " + std::to_string(constant_volume) + " Pa");
     const auto [path, records, states] = drive(target);
     const double held = mean_pressure(records, records.size() / 2);
-    EXPECT_NEAR(held, target, 0.15 * target) << "at constant volume: " << constant_volume << " Pa";
-    EXPECT_GT(std::abs(constant_volume - target), 0.3 * target) << "the test needs a shear that does not hold the target by itself";
+    EXPECT_NEAR(held, target, 0.15 * target);
     for (std::size_t k = 1; k < records.size(); ++k) {
       const Mat3 added = records[k].L - shear;
       EXPECT_EQ(added(0, 1), 0);

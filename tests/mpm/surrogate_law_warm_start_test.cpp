@@ -44,7 +44,8 @@ class MemoryArchive : public LawStateWriter, public LawStateReader {
 // Re-anchored on its own kept cell, caught up on its motion, it takes that cell's D: the cell broke
 // the bonds the motion breaks, where the point's D is the surrogate's estimate (stop 51). The test
 // library's paths break at most two bonds, so the point's later damage is written into its saved
-// state (column 12 of "surrogate_points": slot, σ, φ, Z, then D).
+// state (column 12 of "surrogate_points": slot, σ, φ, Z, then D), and so is a spent budget (column
+// 15), so that the next step re-anchors.
 TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
   std::vector<Mat2> motion(20, off_library_motion().front());
   motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
@@ -64,9 +65,11 @@ TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
   const double kept = LiveCellModel(*shared().cell, LiveDemSettings{}).cell_from(archive.cells.at("parked_0")).measures().damage;
   const double integrated = archive.tables.at("surrogate_points").at(12) + 0.2;
   archive.tables.at("surrogate_points").at(12) = integrated;
-  // Every step a hit, and any error spends the budget: the next step re-anchors.
+  // Every step a hit, and the budget spent: the next step re-anchors, and is answered by the
+  // surrogate from the new cell's state (its own error is far below the budget).
   s.tolerance = kNoLimit;
-  s.error_budget = 1e-9;
+  s.error_budget = 1e6;
+  archive.tables.at("surrogate_points").at(15) = s.error_budget;
   for (const bool own : {true, false}) {
     SCOPED_TRACE(own ? "its own cell" : "a snapshot");
     MemoryArchive edited = archive;
@@ -82,6 +85,7 @@ TEST(SurrogateLaw, AReanchoredPointKeepsItsDamageUnlessItsOwnCellCaughtUp) {
     const std::uint64_t before = resumed->point_counters(e.slot).reanchored;
     e(*resumed, motion[k + 1], kDt);
     ASSERT_EQ(resumed->point_counters(e.slot).reanchored, before + 1);
+    ASSERT_EQ(resumed->source(e.slot), StressSource::hit);
     if (own) {
       EXPECT_GT(resumed->point_counters(e.slot).warm_start_catch_up_steps, 0u);
       EXPECT_GE(resumed->damage(e.slot), kept);
