@@ -1,8 +1,10 @@
 // SurrogateLaw's checkpoint: what save_state writes and restore_state reads back, so that a restart
 // continues bit for bit (the promise in surrogate_law.hpp).
 #include <algorithm>
+#include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "mpm_solver/dem_laws/surrogate_law.hpp"
 #include "mpm_solver/dem_laws/warm_start.hpp"
@@ -21,8 +23,7 @@ namespace {
 constexpr std::size_t kStateColumns = 12;
 constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
-constexpr std::size_t kParkedColumns = 2;
-constexpr std::size_t kCheckpointColumns = 2;
+constexpr std::size_t kKeptColumns = 2;  // per kept cell (parked or checkpoint): slot, increments seen
 constexpr std::size_t kSpanColumns = 1 + kStateColumns + 9 + 1;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 std::string parked_cell_name(std::size_t slot) { return "parked_" + std::to_string(slot); }
@@ -80,8 +81,8 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
   out.write_table("surrogate_points", rows, kPointColumns);
   out.write_table("replay_history", history, kHistoryColumns);
   out.write_table("surrogate_learned", samples, kSampleColumns);
-  out.write_table("surrogate_parked", parked, kParkedColumns);
-  out.write_table("surrogate_checkpoints", checkpoints, kCheckpointColumns);
+  out.write_table("surrogate_parked", parked, kKeptColumns);
+  out.write_table("surrogate_checkpoints", checkpoints, kKeptColumns);
   out.write_table("surrogate_span", span, kSpanColumns);
 }
 
@@ -108,22 +109,20 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     ++live_points_;
     p.source = StressSource::live;
   }
-  for (Point& p : points_) p.parked.reset();
-  const std::vector<double> parked = in.read_table("surrogate_parked", kParkedColumns);
-  for (std::size_t r = 0; r < parked.size(); r += kParkedColumns) {
-    const auto slot = static_cast<std::size_t>(parked[r]);
-    Point& p = points_.at(slot);
-    p.parked_at = static_cast<std::size_t>(parked[r + 1]);
-    p.parked = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(parked_cell_name(slot))));
-  }
-  for (Point& p : points_) p.checkpoint.reset();
-  const std::vector<double> checkpoints = in.read_table("surrogate_checkpoints", kCheckpointColumns);
-  for (std::size_t r = 0; r < checkpoints.size(); r += kCheckpointColumns) {
-    const auto slot = static_cast<std::size_t>(checkpoints[r]);
-    Point& p = points_.at(slot);
-    p.checkpoint_at = static_cast<std::size_t>(checkpoints[r + 1]);
-    p.checkpoint = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(checkpoint_cell_name(slot))));
-  }
+  // The kept cells, each with the increments of its point's history it has seen.
+  const auto restore_kept = [&](const std::string& table, std::string (*name)(std::size_t),
+                                std::unique_ptr<dem::DemCell> Point::*kept, std::size_t Point::*seen) {
+    for (Point& p : points_) (p.*kept).reset();
+    const std::vector<double> rows = in.read_table(table, kKeptColumns);
+    for (std::size_t r = 0; r < rows.size(); r += kKeptColumns) {
+      const auto slot = static_cast<std::size_t>(rows[r]);
+      Point& p = points_.at(slot);
+      p.*seen = static_cast<std::size_t>(rows[r + 1]);
+      p.*kept = std::make_unique<dem::DemCell>(model_.cell_from(in.read_cell(name(slot))));
+    }
+  };
+  restore_kept("surrogate_parked", parked_cell_name, &Point::parked, &Point::parked_at);
+  restore_kept("surrogate_checkpoints", checkpoint_cell_name, &Point::checkpoint, &Point::checkpoint_at);
   for (Point& p : points_) p.span.clear();
   // A restart file written before samples had spans has none: its samples spanned one step.
   const std::vector<double> span =
