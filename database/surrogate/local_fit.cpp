@@ -60,8 +60,10 @@ LocalFit local_fit(const std::vector<Neighbour>& neighbours, double ridge) {
   const Eigen::Matrix<double, 1, static_cast<int>(kAnswerSize)> mean = (w.transpose() * Y) / weight_sum;
   Eigen::Matrix<double, 1, static_cast<int>(kAnswerSize)> press2 = Eigen::Matrix<double, 1, static_cast<int>(kAnswerSize)>::Zero(), spread2 = press2;
   double press_stress = 0, spread_stress = 0;
+  // H_ii = w_i x_iᵀ A⁻¹ x_i, with A⁻¹ x_i for every neighbour from one solve.
+  const Eigen::Matrix<double, kTerms, Eigen::Dynamic> A_inverse_Xt = solver.solve(X.transpose());
   for (int i = 0; i < n; ++i) {
-    const double leverage = std::min(w(i) * X.row(i).dot(solver.solve(X.row(i).transpose())), 0.95);
+    const double leverage = std::min(w(i) * X.row(i).dot(A_inverse_Xt.col(i)), 0.95);
     const auto e = residual.row(i) / (1 - leverage);
     const auto d = Y.row(i) - mean;
     press2 += w(i) * e.cwiseAbs2();

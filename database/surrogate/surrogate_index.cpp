@@ -14,24 +14,33 @@ namespace grainbank::surrogate {
 
 namespace {
 
-// The k best samples not left out, sorted by squared distance (a nanoflann result set).
+// The k best samples not left out: the k least (squared distance, index) pairs, whatever order the
+// trees offer them in, so that equidistant samples (exact ties occur on real libraries: the former
+// index gave other runs with other leaf sizes) are chosen by their index, not by the trees' shape.
 class FilteredNearest {
  public:
   using DistanceType = double;
   using IndexType = std::size_t;
   FilteredNearest(std::size_t capacity, const std::vector<Sample>& samples, const std::optional<LeaveOut>& leave_out)
-      : capacity_(capacity), samples_(samples), leave_out_(leave_out) {}
+      : capacity_(capacity), samples_(samples), leave_out_(leave_out) {
+    items_.reserve(capacity);
+  }
   std::size_t size() const { return items_.size(); }
   bool full() const { return items_.size() == capacity_; }
-  double worstDist() const { return full() ? items_.back().first : std::numeric_limits<double>::max(); }
+  // nanoflann offers a sample only below this bound: one ulp above the worst kept lets a tie in.
+  double worstDist() const {
+    return full() ? std::nextafter(items_.back().first, std::numeric_limits<double>::infinity())
+                  : std::numeric_limits<double>::max();
+  }
   bool addPoint(double distance2, std::size_t index) {
     if (left_out(index)) return true;
     const std::pair<double, std::size_t> item{distance2, index};
-    if (full()) {
-      if (!(distance2 < items_.back().first)) return true;
-      items_.pop_back();
-    }
-    items_.insert(std::upper_bound(items_.begin(), items_.end(), item), item);
+    if (full() && !(item < items_.back())) return true;
+    const auto at = std::lower_bound(items_.begin(), items_.end(), item);
+    if (at != items_.end() && *at == item) return true;  // offered before, as a hint
+    const std::ptrdiff_t position = at - items_.begin();
+    if (full()) items_.pop_back();
+    items_.insert(items_.begin() + position, item);
     return true;
   }
   const std::vector<std::pair<double, std::size_t>>& items() const { return items_; }
@@ -48,21 +57,102 @@ class FilteredNearest {
   std::vector<std::pair<double, std::size_t>> items_;
 };
 
+// The scaled features of samples [first, first + count) as a nanoflann dataset of points 0 .. count - 1.
+struct ScaledPoints {
+  const std::vector<FeatureVector>* scaled = nullptr;
+  std::size_t first = 0;
+  std::size_t count = 0;
+  std::size_t kdtree_get_point_count() const { return count; }
+  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return (*scaled)[first + i][dim]; }
+  template <class Box>
+  bool kdtree_get_bbox(Box&) const { return false; }
+};
+
+// Hands a tree's points to the result set under their index in the whole array.
+template <class Result>
+class Shifted {
+ public:
+  using DistanceType = double;
+  using IndexType = std::size_t;
+  Shifted(Result& result, std::size_t first) : result_(result), first_(first) {}
+  double worstDist() const { return result_.worstDist(); }
+  bool addPoint(double distance2, std::size_t index) { return result_.addPoint(distance2, first_ + index); }
+  bool full() const { return result_.full(); }
+
+ private:
+  Result& result_;
+  std::size_t first_;
+};
+
+constexpr int kDimensions = static_cast<int>(kFeatureCount);
+
+// Squared Euclidean distance. One out-of-line function for the trees and for a hint, so that a
+// sample's distance is the same double whichever offers it (inlined, each call site could round
+// it differently).
+[[gnu::noinline]] double squared_distance(const double* query, const FeatureVector& point) {
+  double sum = 0;
+  for (std::size_t j = 0; j < kFeatureCount; ++j) {
+    const double difference = query[j] - point[j];
+    sum += difference * difference;
+  }
+  return sum;
+}
+
+// nanoflann's metric over ScaledPoints (its L2_Simple_Adaptor, with squared_distance).
+struct Metric {
+  using ElementType = double;
+  using DistanceType = double;
+  const ScaledPoints& points;
+  explicit Metric(const ScaledPoints& p) : points(p) {}
+  double evalMetric(const double* query, std::size_t i, std::size_t) const {
+    return squared_distance(query, (*points.scaled)[points.first + i]);
+  }
+  double accum_dist(double a, double b, std::size_t) const { return (a - b) * (a - b); }
+};
+
+constexpr std::size_t kLeafSize = 16;
+
 }  // namespace
 
+// Two kd-trees over one array of samples: a static tree over the first `settled.count` (built in one
+// go: balanced, one tree to search) and a dynamic one over those inserted since (nanoflann's
+// logarithmic forest: cheap small inserts). When the inserted outnumber the settled, all are
+// settled into a new static tree, so the forest stays the smaller part and a run that learns much
+// rebuilds O(log n) times.
 struct SurrogateIndex::Tree {
   std::vector<Sample> samples;
   std::vector<FeatureVector> scaled;  // features / length scales, parallel to samples
+  ScaledPoints settled{&scaled, 0, 0};
+  ScaledPoints recent{&scaled, 0, 0};
+  using Static = nanoflann::KDTreeSingleIndexAdaptor<Metric, ScaledPoints, kDimensions>;
+  using Dynamic = nanoflann::KDTreeSingleIndexDynamicAdaptor<Metric, ScaledPoints, kDimensions>;
+  std::unique_ptr<Static> settled_tree;
+  std::unique_ptr<Dynamic> recent_tree;
 
-  // nanoflann dataset interface.
-  std::size_t kdtree_get_point_count() const { return scaled.size(); }
-  double kdtree_get_pt(std::size_t i, std::size_t dim) const { return scaled[i][dim]; }
-  template <class Box>
-  bool kdtree_get_bbox(Box&) const { return false; }
+  // Indexes the samples appended since the last call.
+  void index_new_samples() {
+    const std::size_t indexed = settled.count + recent.count;
+    if (scaled.size() - settled.count > settled.count) {
+      settled.count = scaled.size();
+      settled_tree = std::make_unique<Static>(kDimensions, settled, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize));
+      recent = {&scaled, settled.count, 0};
+      recent_tree.reset();
+      return;
+    }
+    if (!recent_tree)
+      recent_tree = std::make_unique<Dynamic>(kDimensions, recent, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize));
+    recent.count = scaled.size() - settled.count;
+    recent_tree->addPoints(indexed - settled.count, recent.count - 1);
+  }
 
-  using Index = nanoflann::KDTreeSingleIndexDynamicAdaptor<nanoflann::L2_Simple_Adaptor<double, Tree>, Tree,
-                                                          static_cast<int>(kFeatureCount)>;
-  Index index{static_cast<int>(kFeatureCount), *this, nanoflann::KDTreeSingleIndexAdaptorParams(16)};
+  template <class Result>
+  void find(Result& result, const FeatureVector& z) const {
+    if (settled_tree) settled_tree->findNeighbors(result, z.data(), nanoflann::SearchParams());
+    if (recent_tree && recent.count > 0) {
+      Shifted<Result> shifted(result, recent.first);
+      recent_tree->findNeighbors(shifted, z.data(), nanoflann::SearchParams());
+    }
+  }
 };
 
 SurrogateIndex::SurrogateIndex(const FeatureConstants& constants, const LengthScales& scales, const SurrogateOptions& options)
@@ -89,7 +179,6 @@ void SurrogateIndex::insert(const std::vector<Sample>& samples) {
   if (samples.empty()) return;
   const std::lock_guard gate(turnstile_);
   const std::unique_lock lock(mutex_);
-  const std::size_t first = tree_->samples.size();
   double stiffest = largest_stiffness_.load(std::memory_order_relaxed);
   for (const Sample& s : samples) {
     stiffest = std::max(stiffest, stress_norm(s.answer) * effective_pressure_of_feature(s.features[0], constants_));
@@ -98,23 +187,29 @@ void SurrogateIndex::insert(const std::vector<Sample>& samples) {
     tree_->samples.push_back(s);
     tree_->scaled.push_back(z);
   }
-  tree_->index.addPoints(first, tree_->samples.size() - 1);
+  tree_->index_new_samples();
   largest_stiffness_.store(stiffest, std::memory_order_relaxed);
 }
 
-Prediction SurrogateIndex::predict(const FeatureVector& features) const { return answer(features, std::nullopt); }
-
-Prediction SurrogateIndex::predict_without(const FeatureVector& features, const LeaveOut& leave_out) const {
-  return answer(features, leave_out);
+Prediction SurrogateIndex::predict(const FeatureVector& features, std::span<const std::size_t> hint) const {
+  return answer(features, std::nullopt, hint);
 }
 
-Prediction SurrogateIndex::answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const {
+Prediction SurrogateIndex::predict_without(const FeatureVector& features, const LeaveOut& leave_out) const {
+  return answer(features, leave_out, {});
+}
+
+Prediction SurrogateIndex::answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out,
+                                  std::span<const std::size_t> hint) const {
   FeatureVector z;
   for (std::size_t j = 0; j < kFeatureCount; ++j) z[j] = features[j] / scales_[j];
   { const std::lock_guard gate(turnstile_); }
   const std::shared_lock lock(mutex_);
   FilteredNearest nearest(options_.k, tree_->samples, leave_out);
-  if (!tree_->samples.empty()) tree_->index.findNeighbors(nearest, z.data(), nanoflann::SearchParams());
+  // Samples near the query, offered first, make the trees' search start from a tight bound.
+  for (const std::size_t i : hint)
+    if (i < tree_->scaled.size()) nearest.addPoint(squared_distance(z.data(), tree_->scaled[i]), i);
+  tree_->find(nearest, z);
 
   std::vector<Neighbour> neighbours;
   neighbours.reserve(nearest.size());
@@ -128,6 +223,8 @@ Prediction SurrogateIndex::answer(const FeatureVector& features, const std::opti
   p.neighbours = neighbours.size();
   p.distance = neighbours.empty() ? std::numeric_limits<double>::infinity() : neighbours.front().distance;
   if (!neighbours.empty()) p.nearest = tree_->samples[nearest.items().front().second].origin;
+  p.neighbour_ids.reserve(nearest.size());
+  for (const auto& item : nearest.items()) p.neighbour_ids.push_back(item.second);
   return p;
 }
 

@@ -3,8 +3,10 @@
 //
 // Promises:
 // - predict() answers from the k samples nearest in scaled feature space (Euclidean distance of
-//   feature differences divided by the per-feature length scales; nanoflann kd-tree, exact) with
-//   local_fit.hpp: the predicted normalized answer and its estimated error.
+//   feature differences divided by the per-feature length scales; nanoflann kd-trees, exact; of
+//   equidistant samples the earlier inserted, so the answer does not depend on how the samples
+//   were grouped into inserts) with local_fit.hpp: the predicted normalized answer and its
+//   estimated error.
 // - predict_without() does the same as if the samples of one path (or one sample) were not in the
 //   index: the leave-one-out predictions that fit the length scales (length_scales.hpp) and test
 //   the error estimate.
@@ -22,6 +24,7 @@
 #include <mutex>
 #include <optional>
 #include <shared_mutex>
+#include <span>
 #include <vector>
 
 #include "database/surrogate/local_fit.hpp"
@@ -41,6 +44,7 @@ struct Prediction {
   std::size_t neighbours = 0;   // < k only when the index holds fewer samples
   double distance = 0;          // to the nearest, in length scales (∞ for an empty index)
   SampleOrigin nearest;         // valid when neighbours > 0
+  std::vector<std::size_t> neighbour_ids;  // the k nearest, nearest first: a hint for the next query
 };
 
 // Which samples a leave-out prediction ignores.
@@ -69,12 +73,15 @@ class SurrogateIndex {
 
   void insert(const std::vector<Sample>& samples);
 
-  Prediction predict(const FeatureVector& features) const;
+  // `hint`: samples likely to be among the k nearest (a point's neighbour_ids of its last step).
+  // They only bound the search from the start; the answer is the same with any hint or none.
+  Prediction predict(const FeatureVector& features, std::span<const std::size_t> hint = {}) const;
   Prediction predict_without(const FeatureVector& features, const LeaveOut& leave_out) const;
 
  private:
   struct Tree;
-  Prediction answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out) const;
+  Prediction answer(const FeatureVector& features, const std::optional<LeaveOut>& leave_out,
+                    std::span<const std::size_t> hint) const;
 
   FeatureConstants constants_;
   LengthScales scales_;

@@ -3,7 +3,7 @@
 namespace grainbank::surrogate {
 
 SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& state, const dem::Mat3& L, double dt,
-                             double tolerance) {
+                             double tolerance, std::span<const std::size_t> hint) {
   SurrogateStep step;
   const double scale = answer_scale(state.stress, L, index.constants());
   if (scale == 0) {
@@ -11,7 +11,7 @@ SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& stat
     step.hit = true;
     return step;
   }
-  step.prediction = index.predict(feature_vector(state_features(state, L, index.constants())));
+  step.prediction = index.predict(feature_vector(state_features(state, L, index.constants())), hint);
   Answer answer = step.prediction.fit.answer;
   const double stiffness = stress_norm(answer) * effective_pressure(state.stress, index.constants());
   const double stiffest = index.largest_stiffness();

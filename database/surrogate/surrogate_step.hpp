@@ -23,7 +23,8 @@ struct SurrogateStep {
   bool hit = false;
 };
 
+// `hint`: as SurrogateIndex::predict's (the same answer with or without).
 SurrogateStep surrogate_step(const SurrogateIndex& index, const PointState& state, const dem::Mat3& L, double dt,
-                             double tolerance);
+                             double tolerance, std::span<const std::size_t> hint = {});
 
 }  // namespace grainbank::surrogate

@@ -8,7 +8,6 @@
 
 #include "mpm_solver/dem_laws/warm_start.hpp"
 #include "database/surrogate/length_scales.hpp"
-#include "database/surrogate/surrogate_step.hpp"
 
 namespace grainbank::mpm {
 
@@ -67,9 +66,7 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
 
   if (p.cell) {
     // Asked before this step's response is learned: would the surrogate have answered it?
-    const bool inside =
-        settings_.return_after > 0 &&
-        surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance).hit;
+    const bool inside = settings_.return_after > 0 && answer(p, L, increment.dt).hit;
     advance_live(slot, p, increment, L, stress);
     p.steps_inside = inside ? p.steps_inside + 1 : 0;
     // A spell the budget started needs no hysteresis: the surrogate could answer the point, it
@@ -85,12 +82,12 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
     return;
   }
 
-  surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+  surrogate::SurrogateStep step = answer(p, L, increment.dt);
   const bool budget_spent = step.hit && p.spent + step.estimated_error > settings_.error_budget;
   bool beyond_budget_alone = false;  // a step whose own estimated error exceeds the budget
   if (budget_spent && warm_start_) {
     reanchor(p);
-    step = surrogate::surrogate_step(*index_, p.state, L, increment.dt, settings_.tolerance);
+    step = answer(p, L, increment.dt);
     beyond_budget_alone = step.hit && step.estimated_error > settings_.error_budget;
   }
   const bool spell_on_budget = (budget_spent && !warm_start_) || beyond_budget_alone;
@@ -109,6 +106,13 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   stress = plane_stress_of(p.state.stress);
   p.source = StressSource::hit;
   p.error = step.estimated_error;
+}
+
+surrogate::SurrogateStep SurrogateLaw::answer(Point& p, const dem::Mat3& L, double dt) const {
+  surrogate::SurrogateStep step = surrogate::surrogate_step(*index_, p.state, L, dt, settings_.tolerance, p.neighbours);
+  const std::vector<std::size_t>& found = step.prediction.neighbour_ids;
+  if (!found.empty()) p.neighbours.assign(found.begin(), found.end());
+  return step;
 }
 
 bool SurrogateLaw::start_cell(Point& p) {

@@ -65,6 +65,7 @@
 #include "mpm_solver/dem_laws/state_warm_start.hpp"
 #include "database/surrogate/reindex.hpp"
 #include "database/surrogate/surrogate_index.hpp"
+#include "database/surrogate/surrogate_step.hpp"
 
 namespace grainbank::mpm {
 
@@ -140,6 +141,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
     int steps_inside = 0;                     // consecutive live steps within the tolerance
     double spent = 0;  // [Pa] estimated errors summed since the last live spell or re-anchoring
     std::vector<KinematicIncrement> history;  // every increment so far, for the replay
+    std::vector<std::size_t> neighbours;      // of the point's last surrogate step: its next query's hint
     std::vector<surrogate::Sample> learned_this_step;  // inserted by end_step
     // The live cell's last `sample_span` steps: the state before each, its L and dt.
     struct SpanStep {
@@ -154,6 +156,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   // A cell for the point (state warm start, or replay), whose state the point takes. True when it is
   // the point's own cell, caught up on the point's motion.
   bool start_cell(Point& p);
+  // The surrogate's step from the point's state, its last neighbours as the search's hint.
+  surrogate::SurrogateStep answer(Point& p, const dem::Mat3& L, double dt) const;
   void go_live(Point& p);
   void reanchor(Point& p);
   // The point gives its live cell up, keeping it for its next start (and as a checkpoint when exact);
