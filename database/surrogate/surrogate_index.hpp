@@ -3,10 +3,10 @@
 //
 // Promises:
 // - predict() answers from the k samples nearest in scaled feature space (Euclidean distance of
-//   feature differences divided by the per-feature length scales; nanoflann kd-trees, exact; of
-//   equidistant samples the earlier inserted, so the answer does not depend on how the samples
-//   were grouped into inserts) with local_fit.hpp: the predicted normalized answer and its
-//   estimated error.
+//   feature differences divided by the per-feature length scales; nanoflann kd-trees, exact), and
+//   every other sample exactly as near as the k-th, with local_fit.hpp: the predicted normalized
+//   answer and its estimated error. The neighbours are thus the same however the samples were
+//   grouped into inserts.
 // - predict_without() does the same as if the samples of one path (or one sample) were not in the
 //   index: the leave-one-out predictions that fit the length scales (length_scales.hpp) and test
 //   the error estimate.
@@ -41,10 +41,10 @@ struct SurrogateOptions {
 
 struct Prediction {
   LocalFit fit;                 // answer, per-component and stress-part errors (normalized units)
-  std::size_t neighbours = 0;   // < k only when the index holds fewer samples
+  std::size_t neighbours = 0;   // < k only when the index holds fewer; > k when some tie with the k-th
   double distance = 0;          // to the nearest, in length scales (∞ for an empty index)
   SampleOrigin nearest;         // valid when neighbours > 0
-  std::vector<std::size_t> neighbour_ids;  // the k nearest, nearest first: a hint for the next query
+  std::vector<std::size_t> neighbour_ids;  // by (distance, insertion order): a hint for the next query
 };
 
 // Which samples a leave-out prediction ignores.
