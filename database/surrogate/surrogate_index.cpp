@@ -15,11 +15,13 @@ namespace grainbank::surrogate {
 namespace {
 
 // The k nearest samples not left out, and every other sample as near as the k-th: the set is the
-// same whatever order the trees offer the samples in. Exact ties occur on real libraries: a state
-// probe's first interval can share its whole key with its neighbours' in the star and answer five
-// times stiffer (measured on the generalization study's library), and the former index, which kept
-// one of them by the order its trees met them, gave other runs with another leaf size. Keeping all
-// of them lets the fit weigh them alike.
+// same whatever order the trees offer the samples in. Exact ties occur on real libraries: state
+// probes of one base start with the same segment from the template, one record long for the
+// shallowest depth and longer for the others, so their first samples share the whole key while the
+// one-interval sample answers 5.2 times stiffer than the four-interval ones (reindex.hpp's span;
+// measured on the generalization study's library). The former index kept one of them by the order
+// its trees met them, and gave other runs with another leaf size. Keeping all of them lets the fit
+// weigh them alike.
 class FilteredNearest {
  public:
   using DistanceType = double;
