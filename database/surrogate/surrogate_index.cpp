@@ -154,7 +154,7 @@ struct SurrogateIndex::Tree {
   template <class Result>
   void find(Result& result, const FeatureVector& z) const {
     if (settled_tree) settled_tree->findNeighbors(result, z.data(), nanoflann::SearchParams());
-    if (recent_tree && recent.count > 0) {
+    if (recent_tree) {  // created with its first samples, dropped when they settle
       Shifted<Result> shifted(result, recent.first);
       recent_tree->findNeighbors(shifted, z.data(), nanoflann::SearchParams());
     }
