@@ -21,6 +21,17 @@ LengthScales initial_length_scales(const std::vector<Sample>& samples) {
   return scales;
 }
 
+std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, std::uint64_t seed) {
+  count = std::min(count, samples);
+  const double golden = (std::sqrt(5.0) - 1) / 2;
+  const double shift = std::fmod(static_cast<double>(seed) * golden, 1.0);
+  std::vector<std::size_t> probes;
+  for (std::size_t i = 0; i < count; ++i)
+    probes.push_back(static_cast<std::size_t>((static_cast<double>(i) + shift) * static_cast<double>(samples) /
+                                              static_cast<double>(count)));
+  return probes;
+}
+
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,
                            const LengthScales& scales, const SurrogateOptions& options,
                            const std::vector<std::size_t>& probes) {
@@ -40,9 +51,7 @@ double leave_path_out_loss(const FeatureConstants& constants, const std::vector<
 LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::vector<Sample>& samples,
                                  const SurrogateOptions& options, const LengthScaleSearch& search) {
   if (samples.empty()) throw std::invalid_argument("length scales: no samples to fit them on");
-  std::vector<std::size_t> probes;
-  const std::size_t count = std::min(search.probes, samples.size());
-  for (std::size_t i = 0; i < count; ++i) probes.push_back(i * samples.size() / count);
+  const std::vector<std::size_t> probes = probe_indices(samples.size(), search.probes, search.seed);
 
   LengthScaleFit fit;
   fit.scales = initial_length_scales(samples);

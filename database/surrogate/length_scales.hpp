@@ -3,11 +3,18 @@
 // Start: each feature's standard deviation over the dataset (1 where it does not vary). Loss: the
 // mean stress-part error |â − a| (stress_norm units) of the predictions of a fixed set of probe
 // samples, each predicted with its whole path left out (a neighbouring record of the same path is
-// nearly the same interval, so leaving only the sample out would reward scales that find it).
+// nearly the same interval, so leaving only the sample out would reward scales that find it). The
+// probes are evenly spaced over the dataset; `seed` shifts them along it (probe_indices).
+//
+// The fit is a draw, not a converged estimate: the loss is nearly flat along several scales, and
+// another set of probes of the same size finds other scales (on the generalization library, the
+// scale of φ anywhere from 1.25e-4 to 6.8e-3 and that of D from 0.11 to 27 for losses within a few
+// per cent). A column run on one fit is one draw of the surrogate; `seed` draws others (stop 63).
 // Search: coordinate descent on ln ℓ_j — multiply ℓ_j by e^{±s}, keep a change that lowers the loss,
 // halve s after a sweep without one — for a fixed number of sweeps. Deterministic.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "database/surrogate/surrogate_index.hpp"
@@ -26,7 +33,13 @@ struct LengthScaleSearch {
   std::size_t probes = 200;  // probe samples, spread evenly over the dataset
   std::size_t sweeps = 4;
   double step = 1.0;         // s of the first sweep (ln units)
+  std::uint64_t seed = 0;    // which set of evenly spaced probes (probe_indices)
 };
+
+// `count` indices (at most `samples`) spaced evenly over [0, samples): the i-th is
+// ⌊(i + u) samples / count⌋ with u = frac(seed (√5 − 1)/2), so seed 0 starts at 0 and the sets of
+// successive seeds interleave.
+std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, std::uint64_t seed);
 
 // The loss of `scales` over `probes` (indices into `samples`).
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,

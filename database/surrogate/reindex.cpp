@@ -1,5 +1,8 @@
 #include "database/surrogate/reindex.hpp"
 
+#include <algorithm>
+#include <iterator>
+#include <numeric>
 #include <optional>
 #include <stdexcept>
 
@@ -39,13 +42,17 @@ std::optional<std::size_t> held_segment_of(const std::vector<db::Record>& record
   return std::nullopt;
 }
 
-}  // namespace
+struct SpannedSample {
+  Sample sample;
+  std::size_t intervals = 0;  // how many recorded intervals its answer spans
+};
 
-std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Record>& records,
-                                 const FeatureConstants& constants, std::size_t span,
-                                 const std::vector<HeldSegment>& held) {
+// The samples of one stored path (its records in order), each spanning up to `span` ≥ 1 intervals.
+std::vector<SpannedSample> spanned_samples(std::int64_t path_id, const std::vector<db::Record>& records,
+                                           const FeatureConstants& constants, std::size_t span,
+                                           const std::vector<HeldSegment>& held) {
   if (span < 1) throw std::invalid_argument("sample span: expected at least one interval");
-  std::vector<Sample> samples;
+  std::vector<SpannedSample> samples;
   for (std::size_t k = 0; k + 1 < records.size(); ++k) {
     const db::Record& before = records[k];
     // Record k+1 holds the L of interval k; the sample reaches on while the next intervals share it,
@@ -68,11 +75,40 @@ std::vector<Sample> path_samples(std::int64_t path_id, const std::vector<db::Rec
       L /= dt;
     }
     if (!(dt > 0) || (L + L.transpose()).norm() == 0) continue;
-    samples.push_back(make_sample(point_state(before), point_state(after), L, dt, constants,
-                                  {path_id, static_cast<std::int64_t>(k)}));
+    samples.push_back({make_sample(point_state(before), point_state(after), L, dt, constants,
+                                   {path_id, static_cast<std::int64_t>(k)}),
+                       last - k});
   }
   return samples;
 }
+
+// Of the samples whose keys are equal to the bit, the one whose answer spans the most intervals (the
+// first of those), in library order.
+std::vector<Sample> without_repeats(std::vector<SpannedSample> all) {
+  std::vector<std::size_t> order(all.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return all[a].sample.features < all[b].sample.features; });
+  std::vector<bool> kept(all.size(), true);
+  for (std::size_t begin = 0; begin < order.size();) {
+    std::size_t end = begin + 1, best = order[begin];
+    for (; end < order.size() && all[order[end]].sample.features == all[best].sample.features; ++end) {
+      kept[order[end]] = false;
+      if (all[order[end]].intervals > all[best].intervals) {
+        kept[best] = false;
+        kept[order[end]] = true;
+        best = order[end];
+      }
+    }
+    begin = end;
+  }
+  std::vector<Sample> samples;
+  for (std::size_t i = 0; i < all.size(); ++i)
+    if (kept[i]) samples.push_back(std::move(all[i].sample));
+  return samples;
+}
+
+}  // namespace
 
 FeatureConstants library_constants(db::Library& library) {
   const std::vector<db::TemplateRow> templates = library.catalogue().templates();
@@ -93,12 +129,14 @@ FeatureConstants library_constants(db::Library& library) {
 
 Dataset reindex(db::Library& library, std::size_t span) {
   Dataset dataset{library_constants(library), {}};
+  std::vector<SpannedSample> all;
   for (const db::PathRow& path : library.catalogue().paths()) {
     if (path.status != db::PathStatus::done || path.record_count < 2) continue;
-    const std::vector<Sample> samples =
-        path_samples(path.id, library.records(path.id), dataset.constants, span, held_segments(path.spec));
-    dataset.samples.insert(dataset.samples.end(), samples.begin(), samples.end());
+    std::vector<SpannedSample> samples =
+        spanned_samples(path.id, library.records(path.id), dataset.constants, span, held_segments(path.spec));
+    all.insert(all.end(), std::make_move_iterator(samples.begin()), std::make_move_iterator(samples.end()));
   }
+  dataset.samples = without_repeats(std::move(all));
   return dataset;
 }
 

@@ -7,16 +7,15 @@
 #include <stdexcept>
 
 #include "mpm_solver/dem_laws/warm_start.hpp"
-#include "database/surrogate/length_scales.hpp"
 
 namespace grainbank::mpm {
 
 namespace {
 
-surrogate::LengthScales fitted_scales(const surrogate::Dataset& dataset, const surrogate::SurrogateOptions& options) {
+surrogate::LengthScales fitted_scales(const surrogate::Dataset& dataset, const SurrogateLawSettings& settings) {
   // Fewer than two samples tell nothing of their spread: unit scales.
   if (dataset.samples.size() < 2) return surrogate::initial_length_scales(dataset.samples);
-  return surrogate::fit_length_scales(dataset.constants, dataset.samples, options).scales;
+  return surrogate::fit_length_scales(dataset.constants, dataset.samples, settings.surrogate, settings.fit).scales;
 }
 
 dem::Mat3 embed_velocity_gradient(const Mat2& L) {
@@ -40,7 +39,7 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
   if (settings_.sample_span < 1) throw std::invalid_argument("sample_span: expected an integer >= 1");
   const dem::CellMeasures m = cell_template.measures();
   template_state_ = state_of(m.stress, m);
-  index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_.surrogate),
+  index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_),
                                                        settings_.surrogate);
   index_->insert(dataset.samples);
   StateWarmStartSettings& warm = settings_.state_warm_start;

@@ -63,6 +63,7 @@
 #include "mpm_solver/core/dem_backed_law.hpp"
 #include "mpm_solver/dem_laws/live_cell_model.hpp"
 #include "mpm_solver/dem_laws/state_warm_start.hpp"
+#include "database/surrogate/length_scales.hpp"
 #include "database/surrogate/reindex.hpp"
 #include "database/surrogate/surrogate_index.hpp"
 #include "database/surrogate/surrogate_step.hpp"
@@ -72,6 +73,7 @@ namespace grainbank::mpm {
 struct SurrogateLawSettings {
   double tolerance = 0;  // [Pa] estimated error of one step's stress above which a point goes live
   surrogate::SurrogateOptions surrogate;  // k (and the local fit's ridge)
+  surrogate::LengthScaleSearch fit;       // of the length scales on the dataset (its seed)
   int return_after = 0;   // live steps within the tolerance before a point returns to the surrogate
   // [Pa] the sum of a point's estimated step errors since its last live spell or re-anchoring may
   // not exceed this: a step that would exceed it re-anchors the point (or goes live, by replay)

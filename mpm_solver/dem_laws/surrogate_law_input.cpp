@@ -21,14 +21,15 @@ using common::JsonNode;
 using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
-// (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fallback":
+// (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fit_seed" (which
+// probes the length-scale fit uses, length_scales.hpp), "fallback":
 // {"return_after", "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance],
 // "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell":
 // "template" | "snapshot", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and
 // "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
-                                      "error_budget", "k",  "sample_span", "substepping", "q_h", "retiling",
-                                      "fallback"};
+                                      "error_budget", "k",  "sample_span", "fit_seed", "substepping", "q_h",
+                                      "retiling", "fallback"};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;
@@ -38,6 +39,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.surrogate.k = static_cast<std::size_t>(material.integer_or("k", static_cast<std::int64_t>(s.surrogate.k), 1, 1000));
   s.sample_span = static_cast<std::size_t>(
       material.integer_or("sample_span", static_cast<std::int64_t>(s.sample_span), 1, 1000));
+  s.fit.seed = static_cast<std::uint64_t>(material.integer_or("fit_seed", 0, 0, 1000000000));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
                           "catch_up_steps", "catch_up_legs", "first_cell", "unconverged"});

@@ -3,6 +3,7 @@
 // taken from its template and material, and each sample's answer advances its record to the next.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -127,6 +128,48 @@ TEST(SurrogateReindex, ASampleSpansThePressureControlledIntervalsOfOneSegment) {
   EXPECT_EQ(dataset.samples.size(), records.size() - 1);
   EXPECT_GT(spanning, 10u) << "the held segment's samples span three intervals";
   EXPECT_TRUE(held_segments(R"({"replay": [[[0, 1], [0, 0]]]})").empty());
+}
+
+// Paths that share their first segment give that segment's intervals the same key to the bit (the
+// sampler is deterministic): the state probes of one base at several depths and rates do. One key
+// is one sample, the one whose answer spans the most intervals: here the longer path's, over three
+// intervals, and not the shorter's, over the one interval before its loading changes.
+TEST(SurrogateReindex, AKeyRepeatedAcrossPathsIsOneSample) {
+  const test::TempDir dir("grainbank-surrogate-repeats");
+  db::Library library = test::build_library(dir, dir.path() / "LIB", R"({"record_interval": 2e-4,
+    "paths": [{"segments": [{"L": [[0, 2], [0, 0]], "duration": 2e-4}, {"L": [[-1, 0], [0, 1]], "duration": 6e-4}]},
+              {"segments": [{"L": [[0, 2], [0, 0]], "duration": 8e-4}]}]})");
+  std::vector<std::vector<db::Record>> paths;
+  std::size_t intervals = 0;
+  for (const db::PathRow& path : library.catalogue().paths()) {
+    paths.push_back(library.records(path.id));
+    intervals += paths.back().size() - 1;
+  }
+  ASSERT_EQ(paths.size(), 2u);
+  const std::size_t long_path = paths[0][1].L == paths[0][2].L ? 0 : 1;
+  const std::int64_t long_id = library.catalogue().paths()[long_path].id;
+  const std::vector<db::Record>& longer = paths[long_path];
+  const std::vector<db::Record>& shorter = paths[1 - long_path];
+  ASSERT_EQ(shorter[0].stress, longer[0].stress);
+  ASSERT_EQ(shorter[1].L, longer[1].L);
+  ASSERT_NE(shorter[2].L, longer[2].L);
+
+  constexpr std::size_t kSpan = 3;
+  const Dataset dataset = reindex(library, kSpan);
+  EXPECT_EQ(dataset.samples.size(), intervals - 1) << "the shared first interval is one sample";
+  for (std::size_t a = 0; a < dataset.samples.size(); ++a)
+    for (std::size_t b = a + 1; b < dataset.samples.size(); ++b)
+      EXPECT_NE(dataset.samples[a].features, dataset.samples[b].features) << a << " and " << b;
+  const FeatureVector first = feature_vector(state_features(point_state(longer[0]), longer[1].L, dataset.constants));
+  const auto kept = std::find_if(dataset.samples.begin(), dataset.samples.end(),
+                                 [&](const Sample& s) { return s.features == first; });
+  ASSERT_NE(kept, dataset.samples.end());
+  EXPECT_EQ(kept->origin, (SampleOrigin{long_id, 0}));
+  const PointState end =
+      advance(point_state(longer[0]), longer[1].L, longer[kSpan].time - longer[0].time, kept->answer, dataset.constants);
+  const dem::Mat3 target = db::from_stress6(longer[kSpan].stress);
+  for (const auto& [r, c] : {std::pair{0, 0}, {1, 1}, {2, 2}, {0, 1}})
+    EXPECT_NEAR(end.stress(r, c), target(r, c), 1e-9 * target.norm()) << "its answer spans three intervals";
 }
 
 TEST(SurrogateReindex, ALibraryWithoutATemplateIsRefusedByName) {

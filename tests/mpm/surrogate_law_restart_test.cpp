@@ -150,6 +150,26 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
       EXPECT_NE(std::string(e.what()).find(std::string("/materials/0") + named), std::string::npos) << e.what();
     }
   }
+  // The length scales are the fit of the seed the scene names (0 by default) on the library's dataset.
+  surrogate::SurrogateOptions options;
+  options.k = 16;
+  std::vector<surrogate::LengthScales> fitted;
+  for (const std::uint64_t seed : {0, 3}) {
+    const io::Scene seeded = io::load_scene(write_scene(seed ? R"(, "fit_seed": 3)" : ""));
+    surrogate::LengthScaleSearch search;
+    search.seed = seed;
+    const surrogate::LengthScales& scales = dynamic_cast<const SurrogateLaw&>(seeded.solver->law(0)).index().scales();
+    EXPECT_EQ(scales, surrogate::fit_length_scales(shared().dataset.constants, shared().dataset.samples, options, search).scales)
+        << "fit_seed " << seed;
+    fitted.push_back(scales);
+  }
+  EXPECT_NE(fitted[0], fitted[1]) << "on this library the two seeds' probes find different scales";
+  try {
+    io::load_scene(write_scene(R"(, "fit_seed": -1)"));
+    FAIL() << "a negative fit_seed was accepted";
+  } catch (const common::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/materials/0/fit_seed"), std::string::npos) << e.what();
+  }
   // A point's first cell is the template caught up by default; the library's snapshots are read only
   // for first_cell "snapshot".
   EXPECT_EQ(law.state_warm_start()->size(), 1u);

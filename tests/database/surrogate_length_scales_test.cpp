@@ -1,0 +1,63 @@
+// The length-scale fit (length_scales.hpp): which probes it predicts, and that it finds the features
+// an answer depends on, whichever set of probes it draws.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <random>
+#include <set>
+
+#include "database/surrogate/length_scales.hpp"
+
+namespace grainbank::surrogate {
+namespace {
+
+TEST(SurrogateLengthScales, ProbesAreEvenlySpacedAndSeedsShiftThem) {
+  EXPECT_EQ(probe_indices(10, 5, 0), (std::vector<std::size_t>{0, 2, 4, 6, 8}));
+  EXPECT_EQ(probe_indices(3, 5, 7).size(), 3u) << "no more probes than samples";
+  constexpr std::size_t kSamples = 1003, kCount = 200;
+  std::set<std::size_t> seen;
+  for (std::uint64_t seed = 0; seed < 4; ++seed) {
+    const std::vector<std::size_t> probes = probe_indices(kSamples, kCount, seed);
+    ASSERT_EQ(probes.size(), kCount);
+    for (std::size_t i = 0; i < kCount; ++i) {
+      // One probe in each stride of samples/count: the set covers the dataset evenly.
+      EXPECT_GE(probes[i], i * kSamples / kCount) << "seed " << seed;
+      EXPECT_LT(probes[i], (i + 1) * kSamples / kCount + 1) << "seed " << seed;
+    }
+    seen.insert(probes.begin(), probes.end());
+  }
+  EXPECT_GT(seen.size(), 3 * kCount) << "the seeds draw different probes";
+}
+
+// Samples on 40 paths whose stress answer is 10 × feature 0 plus noise: feature 0 matters and
+// feature 1 does not. Every seed's fit lowers its loss and scales feature 0 finer, relative to its
+// spread, than feature 1.
+TEST(SurrogateLengthScales, EverySeedFindsTheFeatureTheAnswerDependsOn) {
+  std::mt19937_64 random(5);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::normal_distribution<double> noise(0, 0.3);
+  std::vector<Sample> samples;
+  for (std::int64_t path = 1; path <= 40; ++path)
+    for (std::int64_t record = 0; record < 30; ++record) {
+      Sample s;
+      for (double& f : s.features) f = uniform(random);
+      s.answer.fill(0);
+      s.answer[0] = 10 * s.features[0] + noise(random);
+      s.origin = {path, record};
+      samples.push_back(s);
+    }
+  const FeatureConstants constants{1000, 100, 1e-3, 1000};
+  const LengthScales start = initial_length_scales(samples);
+  for (std::uint64_t seed = 0; seed < 3; ++seed) {
+    LengthScaleSearch search;
+    search.seed = seed;
+    const LengthScaleFit fit = fit_length_scales(constants, samples, {}, search);
+    EXPECT_LT(fit.loss, fit.initial_loss) << "seed " << seed;
+    EXPECT_LT(fit.scales[0] / start[0], fit.scales[1] / start[1]) << "seed " << seed;
+    const LengthScaleFit again = fit_length_scales(constants, samples, {}, search);
+    EXPECT_EQ(again.scales, fit.scales) << "a fit is deterministic";
+  }
+}
+
+}  // namespace
+}  // namespace grainbank::surrogate
