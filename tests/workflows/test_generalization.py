@@ -74,10 +74,11 @@ class GeneralizationTest(WorkflowTest):
                    for name in ("live", "live_perturbed")]
         self.assertNotEqual(gravity[1], gravity[0])
         self.assertEqual(gravity[1], [g * (1 + 1e-12) for g in gravity[0]])
-        # The surrogate's second draw: its run on the same perturbed gravity, against the live reference.
+        # The surrogate's second draw: its run with the length scales fitted on the next set of probes
+        # and on the same perturbed gravity, against the live reference.
         draw = json.loads((self.out / "scenes" / "aspect_1_bond_1_surrogate_budget_draw_1.json").read_text())
         self.assertEqual(draw["gravity"]["g"], gravity[1])
-        self.assertEqual(draw["materials"][0], budget_material)
+        self.assertEqual(draw["materials"][0], {**budget_material, "fit_seed": 1})
         self.assertEqual(scene["runs"]["surrogate_budget_draw_1"]["reference"], "live")
         perturbed = scene["runs"]["live_perturbed"]
         self.assertEqual(perturbed["reference"], "live")

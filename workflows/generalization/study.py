@@ -25,10 +25,13 @@ default 300 Pa: a point whose estimated errors summed since its last live spell 
 would pass it is re-anchored), and `surrogate_budget_seed`: surrogate_budget on the other packing's
 library (its template and the same sampled paths), measured against `live_seed`, the live run of its
 own template: a second draw of the surrogate's error, from another library. And `--draws` − 1 more
-draws of surrogate_budget (`surrogate_budget_draw_K`, default 2): the same run with gravity changed in
-its 12th digit (× 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, …). A run of the surrogate is one trajectory of a
-chaotic flow, and such a change moved the flowing columns' surrogate runout by up to 4 % (stop 47): one
-draw does not tell the surrogate's bias from its scatter.
+draws of surrogate_budget (`surrogate_budget_draw_K`, default 2): the same run with its length scales
+fitted on the K-th other set of probes (`fit_seed` K, database/surrogate/length_scales.hpp) and gravity
+changed in its 12th digit (× 1 + 1e-12, 1 − 1e-12, 1 + 2e-12, …). A run of the surrogate is one
+trajectory of a chaotic flow, and the gravity change alone moved the flowing columns' surrogate runout
+by up to 4 % (stop 47); the fit is one draw of scales the library leaves undetermined, and another set
+of probes moved a flowing column's CPU by 1.5× and its runout by 7 % (stop 63). One draw does not tell
+the surrogate's bias from its scatter.
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
 point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
@@ -135,7 +138,10 @@ def run_scene(name, settings, libs, surrogate, build, args):
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
     draws = draw_factors(args.draws)
     gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draws}
-    specs.update({run: specs["surrogate_budget"] for run in draws})
+    # Each draw fits the length scales on another set of probes (fit_seed K), the largest source of
+    # the surrogate's scatter found (stop 63), besides its changed gravity.
+    law, library, material = specs["surrogate_budget"]
+    specs.update({run: (law, library, {**material, "fit_seed": k}) for k, run in enumerate(draws, start=1)})
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"
@@ -224,7 +230,7 @@ def main():
     parser.add_argument("--tolerance", type=float, help="the surrogate's tolerance [Pa] instead of --surrogate's")
     parser.add_argument("--error-budget", type=float, default=300.0,
                         help="the surrogate_budget run's error_budget [Pa]")
-    parser.add_argument("--draws", type=int, default=3, help="runs of surrogate_budget, each on gravity changed in its 12th digit")
+    parser.add_argument("--draws", type=int, default=3, help="runs of surrogate_budget, each with another length-scale fit and gravity changed in its 12th digit")
     parser.add_argument("--end", type=float, default=0.15)
     parser.add_argument("--gate", type=float, default=0.05)
     parser.add_argument("--threads", type=int, default=environment.threads())
