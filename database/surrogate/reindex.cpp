@@ -85,23 +85,16 @@ std::vector<SpannedSample> spanned_samples(std::int64_t path_id, const std::vect
 // Of the samples whose keys are equal to the bit, the one whose answer spans the most intervals (the
 // first of those), in library order.
 std::vector<Sample> without_repeats(std::vector<SpannedSample> all) {
+  // By key, the longest span first; stable, so library order among equals.
   std::vector<std::size_t> order(all.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return all[a].sample.features < all[b].sample.features; });
-  std::vector<bool> kept(all.size(), true);
-  for (std::size_t begin = 0; begin < order.size();) {
-    std::size_t end = begin + 1, best = order[begin];
-    for (; end < order.size() && all[order[end]].sample.features == all[best].sample.features; ++end) {
-      kept[order[end]] = false;
-      if (all[order[end]].intervals > all[best].intervals) {
-        kept[best] = false;
-        kept[order[end]] = true;
-        best = order[end];
-      }
-    }
-    begin = end;
-  }
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (all[a].sample.features != all[b].sample.features) return all[a].sample.features < all[b].sample.features;
+    return all[a].intervals > all[b].intervals;
+  });
+  std::vector<bool> kept(all.size(), false);
+  for (std::size_t i = 0; i < order.size(); ++i)
+    kept[order[i]] = i == 0 || all[order[i]].sample.features != all[order[i - 1]].sample.features;
   std::vector<Sample> samples;
   for (std::size_t i = 0; i < all.size(); ++i)
     if (kept[i]) samples.push_back(std::move(all[i].sample));

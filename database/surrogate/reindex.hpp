@@ -24,9 +24,10 @@
 //   share a first segment repeat its records to the bit (the sampler is deterministic): the state
 //   probes of one base at several depths and rates do. Why: a repeated key is one measurement, not
 //   several. Counted twice, a repeat is predicted by its copy in the fit's leave-one-out, so the
-//   error estimate near the template (where every standing point starts) took it as confirmed. And a path whose loading changes after one interval gives that key a
-//   one-interval answer beside the longer paths' spanned ones: on the generalization library it was
-//   5.2 times stiffer (stop 62), and the fit took both.
+//   error estimate near the template (where every standing point starts) took it as confirmed.
+//   And a path whose loading changes after one interval gives that key a one-interval answer beside
+//   the longer paths' spanned ones: on the generalization library it was 5.2 times stiffer (stop
+//   62), and the fit took both.
 // - Only committed records of `done` paths are read (as the nearest-state index does); nothing is
 //   written to the library.
 // - The constants come from the library itself: p_ref the mean pressure of its templates (the

@@ -15,13 +15,11 @@ namespace grainbank::surrogate {
 namespace {
 
 // The k nearest samples not left out, and every other sample as near as the k-th: the set is the
-// same whatever order the trees offer the samples in. Exact ties occur on real libraries: state
-// probes of one base start with the same segment from the template, one record long for the
-// shallowest depth and longer for the others, so their first samples share the whole key while the
-// one-interval sample answers 5.2 times stiffer than the four-interval ones (reindex.hpp's span;
-// measured on the generalization study's library). The former index kept one of them by the order
-// its trees met them, and gave other runs with another leaf size. Keeping all of them lets the fit
-// weigh them alike.
+// same whatever order the trees offer the samples in. Exact ties occurred on real libraries (stop
+// 62: the state probes of one base repeat their first records, which reindex.hpp now keeps once),
+// and the former index kept one of the tied samples by the order its trees met them, so a run
+// changed with the trees' leaf size. Any samples inserted may still tie; keeping all of them lets
+// the fit weigh them alike.
 class FilteredNearest {
  public:
   using DistanceType = double;

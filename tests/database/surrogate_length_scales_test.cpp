@@ -2,7 +2,6 @@
 // an answer depends on, whichever set of probes it draws.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <random>
 #include <set>
 
