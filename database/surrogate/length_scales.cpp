@@ -32,20 +32,62 @@ std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, s
   return probes;
 }
 
+namespace {
+
+struct ProbeOutcome {
+  double error = 0, estimate = 0;  // stress_norm units
+};
+
+std::vector<ProbeOutcome> predict_probes(const FeatureConstants& constants, const std::vector<Sample>& samples,
+                                         const LengthScales& scales, const SurrogateOptions& options,
+                                         const std::vector<std::size_t>& probes) {
+  SurrogateIndex index(constants, scales, options);
+  index.insert(samples);
+  std::vector<ProbeOutcome> outcomes;
+  outcomes.reserve(probes.size());
+  for (const std::size_t i : probes) {
+    const Sample& s = samples[i];
+    const Prediction predicted = index.predict_without(s.features, {s.origin.path_id, std::nullopt});
+    Answer difference;
+    for (std::size_t c = 0; c < kAnswerSize; ++c) difference[c] = predicted.fit.answer[c] - s.answer[c];
+    outcomes.push_back({stress_norm(difference), predicted.fit.stress_error});
+  }
+  return outcomes;
+}
+
+double mean(const std::vector<double>& values) {
+  double sum = 0;
+  for (const double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+// Mean of `trial` − `fitted` over its standard error (0 when every difference is 0).
+double paired_change(const std::vector<double>& trial, const std::vector<double>& fitted) {
+  std::vector<double> differences;
+  for (std::size_t i = 0; i < fitted.size(); ++i) differences.push_back(trial[i] - fitted[i]);
+  if (differences.size() < 2) return 0;
+  const double n = static_cast<double>(differences.size()), average = mean(differences);
+  double square = 0;
+  for (const double d : differences) square += (d - average) * (d - average);
+  const double standard_error = std::sqrt(square / (n - 1) / n);
+  return standard_error > 0 ? average / standard_error : 0;
+}
+
+}  // namespace
+
+std::vector<double> leave_path_out_errors(const FeatureConstants& constants, const std::vector<Sample>& samples,
+                                          const LengthScales& scales, const SurrogateOptions& options,
+                                          const std::vector<std::size_t>& probes) {
+  std::vector<double> errors;
+  for (const ProbeOutcome& probe : predict_probes(constants, samples, scales, options, probes))
+    errors.push_back(probe.error);
+  return errors;
+}
+
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,
                            const LengthScales& scales, const SurrogateOptions& options,
                            const std::vector<std::size_t>& probes) {
-  SurrogateIndex index(constants, scales, options);
-  index.insert(samples);
-  double loss = 0;
-  for (const std::size_t i : probes) {
-    const Sample& s = samples[i];
-    const Answer predicted = index.predict_without(s.features, {s.origin.path_id, std::nullopt}).fit.answer;
-    Answer difference;
-    for (std::size_t c = 0; c < kAnswerSize; ++c) difference[c] = predicted[c] - s.answer[c];
-    loss += stress_norm(difference);
-  }
-  return loss / static_cast<double>(probes.size());
+  return mean(leave_path_out_errors(constants, samples, scales, options, probes));
 }
 
 LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::vector<Sample>& samples,
@@ -54,8 +96,10 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
   const std::vector<std::size_t> probes = probe_indices(samples.size(), search.probes, search.seed);
 
   LengthScaleFit fit;
+  fit.probes = probes.size();
   fit.scales = initial_length_scales(samples);
-  fit.initial_loss = fit.loss = leave_path_out_loss(constants, samples, fit.scales, options, probes);
+  const std::vector<double> initial = leave_path_out_errors(constants, samples, fit.scales, options, probes);
+  fit.initial_loss = fit.loss = mean(initial);
   fit.evaluations = 1;
   double step = search.step;
   for (std::size_t sweep = 0; sweep < search.sweeps; ++sweep) {
@@ -75,6 +119,28 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
       }
     }
     if (!improved) step /= 2;
+  }
+  const std::vector<ProbeOutcome> outcomes = predict_probes(constants, samples, fit.scales, options, probes);
+  ++fit.evaluations;
+  std::vector<double> fitted, ratios;
+  std::size_t covered = 0;
+  for (const ProbeOutcome& probe : outcomes) {
+    fitted.push_back(probe.error);
+    ratios.push_back(probe.error == 0 ? 0.0 : probe.error / probe.estimate);
+    if (probe.error <= probe.estimate) ++covered;
+  }
+  fit.coverage = static_cast<double>(covered) / static_cast<double>(outcomes.size());
+  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+  fit.median_error_over_estimate = ratios[ratios.size() / 2];
+  fit.gain = paired_change(initial, fitted);
+  for (std::size_t j = 0; j < kFeatureCount; ++j) {
+    const auto change = [&](double factor) {
+      LengthScales trial = fit.scales;
+      trial[j] *= factor;
+      ++fit.evaluations;
+      return paired_change(leave_path_out_errors(constants, samples, trial, options, probes), fitted);
+    };
+    fit.evidence[j] = {change(std::exp(-1.0)), change(std::exp(1.0))};
   }
   return fit;
 }

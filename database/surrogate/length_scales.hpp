@@ -13,7 +13,20 @@
 // sets of 200 put the scale of φ anywhere from 1.25e-4 to 6.8e-3; two sets of 4 000 ended 2 % apart
 // in loss with scales up to 7× apart). A column run on one fit is one draw of the surrogate; `seed`
 // draws others (stop 63).
+//
+// Evidence: after the search, each scale is tried e times finer and e times coarser on the same
+// probes. The change of the loss over the standard error of its paired per-probe differences says
+// whether the probes tell the fitted scale from those: a scale is determined when both changes
+// exceed two standard errors. Along an undetermined scale the fit is a draw.
+//
+// Calibration, reported and not applied: the share of probes whose leave-path-out error the local
+// fit's estimate (local_fit.hpp) covers, and the median of error/estimate, at the fitted scales. The
+// estimate's distance term carries the scales' overall size, which the loss hardly sees (neighbours
+// and weights depend on the scales' ratios; only the ridge sees the rest), so draws of the fit
+// estimate differently at the same true errors (stop 64: medians 2.6× apart), and a column's CPU
+// follows its draw's estimates.
 #pragma once
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -24,10 +37,23 @@ namespace grainbank::surrogate {
 
 LengthScales initial_length_scales(const std::vector<Sample>& samples);
 
+// The loss change when a fitted scale is divided (finer) or multiplied (coarser) by e, over the
+// standard error of the paired differences of the probes' errors (above; positive: the fitted
+// scale predicts better). 0 when the change is nil on every probe.
+struct ScaleEvidence {
+  double finer = 0, coarser = 0;
+  bool determined() const { return finer > 2 && coarser > 2; }
+};
+
 struct LengthScaleFit {
   LengthScales scales{};
   double initial_loss = 0, loss = 0;  // before and after the search
-  std::size_t evaluations = 0;        // losses computed
+  double gain = 0;  // initial_loss − loss over the standard error of the probes' paired differences
+  std::size_t probes = 0;             // samples predicted by each loss
+  std::size_t evaluations = 0;        // losses computed, the evidence's included
+  std::array<ScaleEvidence, kFeatureCount> evidence{};
+  // The calibration (above): share of probes whose error ≤ the estimate, and median error/estimate.
+  double coverage = 0, median_error_over_estimate = 0;
 };
 
 struct LengthScaleSearch {
@@ -42,7 +68,10 @@ struct LengthScaleSearch {
 // successive seeds interleave.
 std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, std::uint64_t seed);
 
-// The loss of `scales` over `probes` (indices into `samples`).
+// The error of each of `probes` (indices into `samples`) under `scales`; the loss is their mean.
+std::vector<double> leave_path_out_errors(const FeatureConstants& constants, const std::vector<Sample>& samples,
+                                          const LengthScales& scales, const SurrogateOptions& options,
+                                          const std::vector<std::size_t>& probes);
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,
                            const LengthScales& scales, const SurrogateOptions& options,
                            const std::vector<std::size_t>& probes);

@@ -29,6 +29,7 @@
 #include <array>
 #include <cstddef>
 #include <optional>
+#include <string_view>
 
 #include "database/surrogate/point_state.hpp"
 
@@ -55,6 +56,10 @@ double effective_pressure_of_feature(double feature, const FeatureConstants& con
 inline constexpr std::size_t kFeatureCount = 10;
 using FeatureVector = std::array<double, kFeatureCount>;
 FeatureVector feature_vector(const StateFeatures& features);
+// The entries of feature_vector, in its order, as reports name them.
+inline constexpr std::array<std::string_view, kFeatureCount> kFeatureNames = {
+    "ln_p", "eta_cos_3theta", "eta_sin_3theta", "phi", "Z", "D", "sin_psi", "cos_psi_cos_2beta", "cos_psi_sin_2beta",
+    "ln_I"};
 
 // In-plane principal angle of a symmetric tensor: the direction of its largest in-plane eigenvalue,
 // ½ atan2(2 T_xy, T_xx − T_yy) ∈ (−π/2, π/2]; none when the in-plane deviator vanishes.

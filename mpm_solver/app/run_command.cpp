@@ -142,6 +142,11 @@ nlohmann::json run_scene(const RunOptions& options) {
                  "mpm_solver: warning: %s carries no kinetic-energy peak from before t = %g s (an older build's "
                  "restart, or one resumed from it): time.stop_at_rest compares with the peak from then on\n",
                  options.restart.string().c_str(), run_record.kinetic_energy_peak_since);
+  if (root)
+    for (std::size_t k = 0; k < solver.law_count(); ++k)
+      for (const std::string& note : solver.law(k).start_report().notes)
+        std::fprintf(stderr, "mpm_solver: note: material \"%s\" (%s): %s\n", scene.material_names[k].c_str(),
+                     solver.law(k).name().c_str(), note.c_str());
   // Rank 0 writes every output; the other ranks step the same solver and measure the same flow.
   std::optional<io::AuditTrailRecorder> audit_trail;
   if (root && !scene.audited_points.empty())

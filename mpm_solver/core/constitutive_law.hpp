@@ -6,6 +6,8 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "mpm_solver/core/kinematic_increment.hpp"
 #include "mpm_solver/core/law_state_archive.hpp"
@@ -15,6 +17,13 @@ namespace grainbank::mpm {
 
 class DemBackedLaw;
 class PointSharing;
+
+// What a law settled on when it was built: figures by path (e.g. "length_scales/phi/scale"; the
+// run's summary nests them at each '/'), and notes its user should read before trusting the run.
+struct LawStartReport {
+  std::vector<std::pair<std::string, double>> figures;
+  std::vector<std::string> notes;
+};
 
 class ConstitutiveLaw {
  public:
@@ -71,6 +80,9 @@ class ConstitutiveLaw {
   // neither runs on one rank only.
   virtual bool replicable() const { return false; }
   virtual PointSharing* point_sharing() { return nullptr; }
+
+  // For the run's summary and its start (mpm_solver prints the notes); most laws settle on nothing.
+  virtual LawStartReport start_report() const { return {}; }
 
   // The DEM-backed side of the law (live cells, library answers), or null for an analytic law.
   virtual const DemBackedLaw* dem_backed() const { return nullptr; }

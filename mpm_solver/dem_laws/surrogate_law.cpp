@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <chrono>
+#include <iomanip>
 #include <optional>
 #include <span>
+#include <sstream>
 #include <stdexcept>
+#include <string>
 
 #include "mpm_solver/dem_laws/warm_start.hpp"
 
@@ -12,10 +15,10 @@ namespace grainbank::mpm {
 
 namespace {
 
-surrogate::LengthScales fitted_scales(const surrogate::Dataset& dataset, const SurrogateLawSettings& settings) {
-  // Fewer than two samples tell nothing of their spread: unit scales.
-  if (dataset.samples.size() < 2) return surrogate::initial_length_scales(dataset.samples);
-  return surrogate::fit_length_scales(dataset.constants, dataset.samples, settings.surrogate, settings.fit).scales;
+// Fewer than two samples tell nothing of their spread: no fit, unit scales.
+std::optional<surrogate::LengthScaleFit> fit_of(const surrogate::Dataset& dataset, const SurrogateLawSettings& settings) {
+  if (dataset.samples.size() < 2) return std::nullopt;
+  return surrogate::fit_length_scales(dataset.constants, dataset.samples, settings.surrogate, settings.fit);
 }
 
 dem::Mat3 embed_velocity_gradient(const Mat2& L) {
@@ -39,8 +42,9 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
   if (settings_.sample_span < 1) throw std::invalid_argument("sample_span: expected an integer >= 1");
   const dem::CellMeasures m = cell_template.measures();
   template_state_ = state_of(m.stress, m);
-  index_ = std::make_unique<surrogate::SurrogateIndex>(dataset.constants, fitted_scales(dataset, settings_),
-                                                       settings_.surrogate);
+  fit_ = fit_of(dataset, settings_);
+  index_ = std::make_unique<surrogate::SurrogateIndex>(
+      dataset.constants, fit_ ? fit_->scales : surrogate::initial_length_scales(dataset.samples), settings_.surrogate);
   index_->insert(dataset.samples);
   StateWarmStartSettings& warm = settings_.state_warm_start;
   if (warm.stress_tolerance == 0) warm.stress_tolerance = settings_.tolerance;
@@ -105,6 +109,39 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   stress = plane_stress_of(p.state.stress);
   p.source = StressSource::hit;
   p.error = step.estimated_error;
+}
+
+LawStartReport SurrogateLaw::start_report() const {
+  LawStartReport report;
+  if (!fit_) return report;
+  report.figures = {{"length_scale_fit/seed", static_cast<double>(settings_.fit.seed)},
+                    {"length_scale_fit/probes", static_cast<double>(fit_->probes)},
+                    {"length_scale_fit/initial_loss", fit_->initial_loss},
+                    {"length_scale_fit/loss", fit_->loss},
+                    {"length_scale_fit/gain", fit_->gain},
+                    {"length_scale_fit/coverage", fit_->coverage},
+                    {"length_scale_fit/median_error_over_estimate", fit_->median_error_over_estimate}};
+  std::string undetermined;
+  for (std::size_t j = 0; j < surrogate::kFeatureCount; ++j) {
+    const std::string name(surrogate::kFeatureNames[j]);
+    const surrogate::ScaleEvidence& e = fit_->evidence[j];
+    report.figures.insert(report.figures.end(), {{"length_scales/" + name + "/scale", fit_->scales[j]},
+                                                 {"length_scales/" + name + "/finer", e.finer},
+                                                 {"length_scales/" + name + "/coarser", e.coarser}});
+    if (!e.determined()) undetermined += (undetermined.empty() ? "" : ", ") + name;
+  }
+  if (!undetermined.empty()) {
+    std::ostringstream note;
+    note.precision(2);
+    note << "the length-scale fit is a draw along " << undetermined << ": the library's " << fit_->probes
+         << " probes move its loss by less than two standard errors when one of these scales is made e times finer or "
+            "coarser (the fit's gain over its start: "
+         << fit_->gain << " standard errors). Runs with other \"fit_seed\" values show what the draw moves; the "
+         << "fit, and how often its error estimate covered the probes' errors (" << std::fixed << std::setprecision(0)
+         << 100 * fit_->coverage << " %), are in summary.json (coupling/laws/length_scales, length_scale_fit)";
+    report.notes.push_back(note.str());
+  }
+  return report;
 }
 
 surrogate::SurrogateStep SurrogateLaw::answer(Point& p, const dem::Mat3& L, double dt) const {

@@ -49,6 +49,9 @@
 // - A point's volume follows its own F (V = V₀ det F) whether it is live or not: a cell warm-started
 //   by state has another volume history than the point's.
 // - The P-wave modulus of a surrogate point is LiveCellModel::modulus at the point's φ and Z.
+// - start_report() gives the length-scale fit (its seed, probes, losses, and each scale with its
+//   evidence, length_scales.hpp) and, when the probes leave scales undetermined, a note naming them:
+//   the fit is a draw along those, and other fit_seed values show what that draw moves.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
 //   cell, kept cell, checkpoint and the steps a learned sample spans, and the samples learned so far:
 //   a restart continues bit for bit.
@@ -108,6 +111,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   void save_state(LawStateWriter& out) const override;
   void restore_state(LawStateReader& in) override;
   const DemBackedLaw* dem_backed() const override { return this; }
+  LawStartReport start_report() const override;
 
   StressSource source(std::size_t slot) const override { return points_[slot].source; }
   double estimated_error(std::size_t slot) const override { return points_[slot].error; }
@@ -115,6 +119,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   const dem::DemCell* live_cell(std::size_t slot) const override { return points_[slot].cell.get(); }
 
   const surrogate::SurrogateIndex& index() const { return *index_; }
+  // The fit of the length scales (none on a dataset of fewer than two samples: unit scales).
+  const std::optional<surrogate::LengthScaleFit>& length_scale_fit() const { return fit_; }
   // None when live cells start by replay.
   const StateWarmStart* state_warm_start() const { return warm_start_ ? &*warm_start_ : nullptr; }
   const surrogate::PointState& state(std::size_t slot) const { return points_[slot].state; }
@@ -174,6 +180,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   SurrogateLawSettings settings_;
   LiveCellModel model_;
   surrogate::PointState template_state_;
+  std::optional<surrogate::LengthScaleFit> fit_;
   std::unique_ptr<surrogate::SurrogateIndex> index_;
   std::optional<StateWarmStart> warm_start_;
   // Appended only by end_step and restore_state, which run outside any parallel region.

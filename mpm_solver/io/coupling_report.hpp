@@ -20,8 +20,9 @@ StepCoupling step_coupling(const Solver& solver);
 // The counters of the points of law `law` (all laws: nullopt), summed.
 CouplingCounters coupling_counters(const Solver& solver, std::optional<std::size_t> law = std::nullopt);
 
-// The run's totals: per law (name, counters, hit rate, mean estimated error), the point-steps that
-// skipped the constitutive call and all point-steps. After Solver::finish, they include what the
+// The run's totals: per law (name, counters, hit rate, mean estimated error, and the figures of its
+// start report nested at each '/'), the point-steps that skipped the constitutive call and all
+// point-steps. After Solver::finish, they include what the
 // laws wrote at the end.
 nlohmann::json coupling_summary(const Solver& solver);
 

@@ -2,6 +2,8 @@
 // an answer depends on, whichever set of probes it draws.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <random>
 #include <set>
 
@@ -56,6 +58,54 @@ TEST(SurrogateLengthScales, EverySeedFindsTheFeatureTheAnswerDependsOn) {
     const LengthScaleFit again = fit_length_scales(constants, samples, {}, search);
     EXPECT_EQ(again.scales, fit.scales) << "a fit is deterministic";
   }
+}
+
+// Samples on 40 paths whose stress answer is 10 (sin 3x₀ + sin 3x₁) plus noise, x₂ varying and
+// irrelevant, the other features constant. The answer bends along x₀ and x₁ alike, so neighbourhoods
+// stretched along either one predict worse: the probes determine both scales, e times finer or
+// coarser. x₂ is best ignored: a coarser scale is no worse, so its scale is not determined. A constant
+// feature's scale changes no distance: its evidence is exactly nil.
+TEST(SurrogateLengthScales, EvidenceTellsTheScalesTheProbesDetermine) {
+  std::mt19937_64 random(11);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::normal_distribution<double> noise(0, 0.1);
+  std::vector<Sample> samples;
+  for (std::int64_t path = 1; path <= 40; ++path)
+    for (std::int64_t record = 0; record < 30; ++record) {
+      Sample s;
+      s.features.fill(0.5);
+      s.features[0] = uniform(random);
+      s.features[1] = uniform(random);
+      s.features[2] = uniform(random);
+      s.answer.fill(0);
+      s.answer[0] = 10 * (std::sin(3 * s.features[0]) + std::sin(3 * s.features[1])) + noise(random);
+      s.origin = {path, record};
+      samples.push_back(s);
+    }
+  LengthScaleSearch search;
+  search.probes = 400;
+  const LengthScaleFit fit = fit_length_scales({1000, 100, 1e-3, 1000}, samples, {}, search);
+  for (std::size_t j = 0; j < 3; ++j)
+    std::printf("feature %zu: scale %.3g, finer %.2f, coarser %.2f standard errors\n", j, fit.scales[j],
+                fit.evidence[j].finer, fit.evidence[j].coarser);
+  for (const std::size_t j : {0, 1}) {
+    EXPECT_GT(fit.evidence[j].finer, 2) << "feature " << j;
+    EXPECT_GT(fit.evidence[j].coarser, 2) << "feature " << j;
+    EXPECT_TRUE(fit.evidence[j].determined()) << "feature " << j;
+  }
+  EXPECT_LT(fit.evidence[2].coarser, 2) << "an irrelevant feature is as well ignored more";
+  EXPECT_FALSE(fit.evidence[2].determined());
+  for (std::size_t j = 3; j < kFeatureCount; ++j) {
+    EXPECT_EQ(fit.evidence[j].finer, 0) << "feature " << j;
+    EXPECT_EQ(fit.evidence[j].coarser, 0) << "feature " << j;
+    EXPECT_FALSE(fit.evidence[j].determined()) << "feature " << j;
+  }
+  EXPECT_GT(fit.gain, 2) << "the fit predicts the probes better than its start";
+  EXPECT_EQ(fit.probes, 400u);
+  // The reported calibration is that of the estimates at the fitted scales.
+  EXPECT_GT(fit.coverage, 0);
+  EXPECT_LE(fit.coverage, 1);
+  EXPECT_GT(fit.median_error_over_estimate, 0);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
 // The surrogate law in a solver and a scene (issue 13): a restart continues bit for bit, and a
-// scene names the law and its keys are checked.
+// scene names the law and its keys are checked, and the run's summary carries its length-scale fit.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -10,6 +10,7 @@
 #include "tests/mpm/surrogate_law_fixture.hpp"
 #include "common/json_input.hpp"
 #include "mpm_solver/core/solver.hpp"
+#include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
 #include "mpm_solver/io/scene_input.hpp"
 
@@ -176,6 +177,31 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
   const io::Scene from_snapshots = io::load_scene(write_scene("", R"(, "first_cell": "snapshot")"));
   EXPECT_EQ(dynamic_cast<const SurrogateLaw&>(from_snapshots.solver->law(0)).state_warm_start()->size(),
             shared().snapshots.size() + 1);
+}
+
+// What the fit settled on reaches the run's summary, nested, and the user is told which scales the
+// library leaves to the draw.
+TEST(SurrogateLaw, TheRunSummaryCarriesTheFitAndItsEvidence) {
+  const io::Scene scene = io::load_scene(write_scene(R"(, "fit_seed": 3)"));
+  const auto& law = dynamic_cast<const SurrogateLaw&>(scene.solver->law(0));
+  ASSERT_TRUE(law.length_scale_fit());
+  const surrogate::LengthScaleFit& fit = *law.length_scale_fit();
+  const nlohmann::json summary = io::coupling_summary(*scene.solver)["laws"][0];
+  EXPECT_EQ(summary["length_scale_fit"]["seed"], 3.0);
+  EXPECT_EQ(summary["length_scale_fit"]["loss"], fit.loss);
+  EXPECT_EQ(summary["length_scale_fit"]["coverage"], fit.coverage);
+  std::vector<std::string> undetermined;
+  for (std::size_t j = 0; j < surrogate::kFeatureCount; ++j) {
+    const std::string name(surrogate::kFeatureNames[j]);
+    EXPECT_EQ(summary["length_scales"][name]["scale"], law.index().scales()[j]) << name;
+    EXPECT_EQ(summary["length_scales"][name]["finer"], fit.evidence[j].finer) << name;
+    EXPECT_EQ(summary["length_scales"][name]["coarser"], fit.evidence[j].coarser) << name;
+    if (!fit.evidence[j].determined()) undetermined.push_back(name);
+  }
+  const std::vector<std::string> notes = law.start_report().notes;
+  ASSERT_EQ(notes.size(), undetermined.empty() ? 0u : 1u);
+  for (const std::string& name : undetermined) EXPECT_NE(notes[0].find(name), std::string::npos) << notes[0];
+  if (!notes.empty()) EXPECT_NE(notes[0].find("fit_seed"), std::string::npos) << notes[0];
 }
 
 }  // namespace

@@ -17,13 +17,15 @@ from plotting.scenes import GRAVITY_PERTURBATION, draw_gravity_factors, hybrid, 
 
 
 def drawn(name, knob, value, material):
-    """The surrogate run `name` and two more draws of it on gravity changed in its 12th digit
-    (`name`_draw_1, _draw_2): a run of the chaotic flow is one trajectory, and its error over the three
-    tells its bias from its scatter, against CHAOS's."""
+    """The surrogate run `name` and two more draws of it (`name`_draw_1, _draw_2), each on gravity
+    changed in its 12th digit and with the length scales fitted on another set of probes (fit_seed K):
+    a run of the chaotic flow is one trajectory and the fit is one draw of its scales (stop 63), and
+    the error over the three tells the run's bias from its scatter, against CHAOS's."""
     runs = {name: {"knob": knob, "value": value, "law": "surrogate", "material": material}}
     for k, factor in enumerate(draw_gravity_factors(3), start=1):
-        runs[f"{name}_draw_{k}"] = {"knob": f"{knob}, another draw", "value": f"gravity × {factor!r}",
-                                    "law": "surrogate", "material": material, "gravity_factor": factor}
+        runs[f"{name}_draw_{k}"] = {"knob": f"{knob}, another draw", "value": f"gravity × {factor!r}, fit_seed {k}",
+                                    "law": "surrogate", "material": {**material, "fit_seed": k},
+                                    "gravity_factor": factor}
     return runs
 
 
