@@ -11,6 +11,7 @@ import shutil
 import sys
 import types
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 from workflow_test_util import BUILD, TINY_PATHS, TINY_SCENE, WORKFLOWS, WorkflowTest, run, run_rigid_translation
 
@@ -118,7 +119,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         solver refuses unknown keys, and a variant that kept one of the demo material's keys its law
         does not take (the hybrid runs kept the surrogate's fallback.stress_tolerance) stopped the
         reduced set after an hour of runs. One step each, on a 27-sphere version of the demo's cell and
-        the tiny paths."""
+        the tiny paths. The surrogate's draws refit its length scales, each on its own fit_seed."""
         cell = study.with_preparation(WORKFLOWS / "demo" / "cell_soft_snow_250.json", {"spheres": 27},
                                       self.out / "cell.json")
         library = self.out / "lib"
@@ -131,6 +132,9 @@ class AccuracyVsTimeTest(WorkflowTest):
                  "--set", "/time/end=1e-4"])
             with self.subTest(run=name):
                 self.assertTrue((self.out / "runs" / name / "summary.json").exists())
+                if "_draw_" in name:  # a draw refits the length scales on another set of probes
+                    material = json.loads(Path(scene).read_text())["materials"][0]
+                    self.assertEqual(material["fit_seed"], int(name.rsplit("_", 1)[1]))
 
     def test_creeping_set_runs_on_its_own_cell_and_the_enriched_library(self):
         run(["/usr/bin/python3", WORKFLOWS / "accuracy_vs_time" / "study.py", self.out, "--scene", TINY_SCENE,
