@@ -12,6 +12,29 @@
 namespace grainbank::surrogate {
 namespace {
 
+const FeatureConstants kConstants{1000, 100, 1e-3, 1000};
+
+// 40 paths of 30 samples: the first `varying` features uniform in [−1, 1] (the others 0.5), the
+// stress answer's first component answer(features) plus Gaussian noise of deviation `noise`.
+template <class AnswerOf>
+std::vector<Sample> synthetic_samples(std::uint64_t seed, std::size_t varying, double noise, AnswerOf answer) {
+  std::mt19937_64 random(seed);
+  std::uniform_real_distribution<double> uniform(-1, 1);
+  std::normal_distribution<double> scatter(0, noise);
+  std::vector<Sample> samples;
+  for (std::int64_t path = 1; path <= 40; ++path)
+    for (std::int64_t record = 0; record < 30; ++record) {
+      Sample s;
+      s.features.fill(0.5);
+      for (std::size_t j = 0; j < varying; ++j) s.features[j] = uniform(random);
+      s.answer.fill(0);
+      s.answer[0] = answer(s.features) + scatter(random);
+      s.origin = {path, record};
+      samples.push_back(s);
+    }
+  return samples;
+}
+
 TEST(SurrogateLengthScales, ProbesAreEvenlySpacedAndSeedsShiftThem) {
   EXPECT_EQ(probe_indices(10, 5, 0), (std::vector<std::size_t>{0, 2, 4, 6, 8}));
   EXPECT_EQ(probe_indices(3, 5, 7).size(), 3u) << "no more probes than samples";
@@ -34,28 +57,16 @@ TEST(SurrogateLengthScales, ProbesAreEvenlySpacedAndSeedsShiftThem) {
 // feature 1 does not. Every seed's fit lowers its loss and scales feature 0 finer, relative to its
 // spread, than feature 1.
 TEST(SurrogateLengthScales, EverySeedFindsTheFeatureTheAnswerDependsOn) {
-  std::mt19937_64 random(5);
-  std::uniform_real_distribution<double> uniform(-1, 1);
-  std::normal_distribution<double> noise(0, 0.3);
-  std::vector<Sample> samples;
-  for (std::int64_t path = 1; path <= 40; ++path)
-    for (std::int64_t record = 0; record < 30; ++record) {
-      Sample s;
-      for (double& f : s.features) f = uniform(random);
-      s.answer.fill(0);
-      s.answer[0] = 10 * s.features[0] + noise(random);
-      s.origin = {path, record};
-      samples.push_back(s);
-    }
-  const FeatureConstants constants{1000, 100, 1e-3, 1000};
+  const std::vector<Sample> samples =
+      synthetic_samples(5, kFeatureCount, 0.3, [](const FeatureVector& x) { return 10 * x[0]; });
   const LengthScales start = initial_length_scales(samples);
   for (std::uint64_t seed = 0; seed < 3; ++seed) {
     LengthScaleSearch search;
     search.seed = seed;
-    const LengthScaleFit fit = fit_length_scales(constants, samples, {}, search);
+    const LengthScaleFit fit = fit_length_scales(kConstants, samples, {}, search);
     EXPECT_LT(fit.loss, fit.initial_loss) << "seed " << seed;
     EXPECT_LT(fit.scales[0] / start[0], fit.scales[1] / start[1]) << "seed " << seed;
-    const LengthScaleFit again = fit_length_scales(constants, samples, {}, search);
+    const LengthScaleFit again = fit_length_scales(kConstants, samples, {}, search);
     EXPECT_EQ(again.scales, fit.scales) << "a fit is deterministic";
   }
 }
@@ -66,25 +77,11 @@ TEST(SurrogateLengthScales, EverySeedFindsTheFeatureTheAnswerDependsOn) {
 // coarser. x₂ is best ignored: a coarser scale is no worse, so its scale is not determined. A constant
 // feature's scale changes no distance: its evidence is exactly nil.
 TEST(SurrogateLengthScales, EvidenceTellsTheScalesTheProbesDetermine) {
-  std::mt19937_64 random(11);
-  std::uniform_real_distribution<double> uniform(-1, 1);
-  std::normal_distribution<double> noise(0, 0.1);
-  std::vector<Sample> samples;
-  for (std::int64_t path = 1; path <= 40; ++path)
-    for (std::int64_t record = 0; record < 30; ++record) {
-      Sample s;
-      s.features.fill(0.5);
-      s.features[0] = uniform(random);
-      s.features[1] = uniform(random);
-      s.features[2] = uniform(random);
-      s.answer.fill(0);
-      s.answer[0] = 10 * (std::sin(3 * s.features[0]) + std::sin(3 * s.features[1])) + noise(random);
-      s.origin = {path, record};
-      samples.push_back(s);
-    }
+  const std::vector<Sample> samples = synthetic_samples(
+      11, 3, 0.1, [](const FeatureVector& x) { return 10 * (std::sin(3 * x[0]) + std::sin(3 * x[1])); });
   LengthScaleSearch search;
   search.probes = 400;
-  const LengthScaleFit fit = fit_length_scales({1000, 100, 1e-3, 1000}, samples, {}, search);
+  const LengthScaleFit fit = fit_length_scales(kConstants, samples, {}, search);
   for (std::size_t j = 0; j < 3; ++j)
     std::printf("feature %zu: scale %.3g, finer %.2f, coarser %.2f standard errors\n", j, fit.scales[j],
                 fit.evidence[j].finer, fit.evidence[j].coarser);
