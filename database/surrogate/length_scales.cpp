@@ -73,21 +73,18 @@ double paired_change(const std::vector<double>& trial, const std::vector<double>
   return standard_error > 0 ? average / standard_error : 0;
 }
 
-}  // namespace
-
-std::vector<double> leave_path_out_errors(const FeatureConstants& constants, const std::vector<Sample>& samples,
-                                          const LengthScales& scales, const SurrogateOptions& options,
-                                          const std::vector<std::size_t>& probes) {
+std::vector<double> errors_of(const std::vector<ProbeOutcome>& outcomes) {
   std::vector<double> errors;
-  for (const ProbeOutcome& probe : predict_probes(constants, samples, scales, options, probes))
-    errors.push_back(probe.error);
+  for (const ProbeOutcome& probe : outcomes) errors.push_back(probe.error);
   return errors;
 }
+
+}  // namespace
 
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,
                            const LengthScales& scales, const SurrogateOptions& options,
                            const std::vector<std::size_t>& probes) {
-  return mean(leave_path_out_errors(constants, samples, scales, options, probes));
+  return mean(errors_of(predict_probes(constants, samples, scales, options, probes)));
 }
 
 LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::vector<Sample>& samples,
@@ -98,7 +95,9 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
   LengthScaleFit fit;
   fit.probes = probes.size();
   fit.scales = initial_length_scales(samples);
-  const std::vector<double> initial = leave_path_out_errors(constants, samples, fit.scales, options, probes);
+  // The probes' outcomes at the fit's scales, kept from the search for the evidence and calibration.
+  std::vector<ProbeOutcome> fitted = predict_probes(constants, samples, fit.scales, options, probes);
+  const std::vector<double> initial = errors_of(fitted);
   fit.initial_loss = fit.loss = mean(initial);
   fit.evaluations = 1;
   double step = search.step;
@@ -108,11 +107,13 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
       for (const double factor : {std::exp(step), std::exp(-step)}) {
         LengthScales trial = fit.scales;
         trial[j] *= factor;
-        const double loss = leave_path_out_loss(constants, samples, trial, options, probes);
+        std::vector<ProbeOutcome> outcomes = predict_probes(constants, samples, trial, options, probes);
+        const double loss = mean(errors_of(outcomes));
         ++fit.evaluations;
         if (loss < fit.loss) {
           fit.loss = loss;
           fit.scales = trial;
+          fitted = std::move(outcomes);
           improved = true;
           break;
         }
@@ -120,25 +121,23 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
     }
     if (!improved) step /= 2;
   }
-  const std::vector<ProbeOutcome> outcomes = predict_probes(constants, samples, fit.scales, options, probes);
-  ++fit.evaluations;
-  std::vector<double> fitted, ratios;
+  const std::vector<double> errors = errors_of(fitted);
+  std::vector<double> ratios;
   std::size_t covered = 0;
-  for (const ProbeOutcome& probe : outcomes) {
-    fitted.push_back(probe.error);
+  for (const ProbeOutcome& probe : fitted) {
     ratios.push_back(probe.error == 0 ? 0.0 : probe.error / probe.estimate);
     if (probe.error <= probe.estimate) ++covered;
   }
-  fit.coverage = static_cast<double>(covered) / static_cast<double>(outcomes.size());
+  fit.coverage = static_cast<double>(covered) / static_cast<double>(fitted.size());
   std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
   fit.median_error_over_estimate = ratios[ratios.size() / 2];
-  fit.gain = paired_change(initial, fitted);
+  fit.gain = paired_change(initial, errors);
   for (std::size_t j = 0; j < kFeatureCount; ++j) {
     const auto change = [&](double factor) {
       LengthScales trial = fit.scales;
       trial[j] *= factor;
       ++fit.evaluations;
-      return paired_change(leave_path_out_errors(constants, samples, trial, options, probes), fitted);
+      return paired_change(errors_of(predict_probes(constants, samples, trial, options, probes)), errors);
     };
     fit.evidence[j] = {change(std::exp(-1.0)), change(std::exp(1.0))};
   }

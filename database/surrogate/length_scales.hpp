@@ -68,10 +68,7 @@ struct LengthScaleSearch {
 // successive seeds interleave.
 std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, std::uint64_t seed);
 
-// The error of each of `probes` (indices into `samples`) under `scales`; the loss is their mean.
-std::vector<double> leave_path_out_errors(const FeatureConstants& constants, const std::vector<Sample>& samples,
-                                          const LengthScales& scales, const SurrogateOptions& options,
-                                          const std::vector<std::size_t>& probes);
+// The loss of `scales` over `probes` (indices into `samples`): the mean of their errors.
 double leave_path_out_loss(const FeatureConstants& constants, const std::vector<Sample>& samples,
                            const LengthScales& scales, const SurrogateOptions& options,
                            const std::vector<std::size_t>& probes);

@@ -13,7 +13,7 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting.scenes import GRAVITY_PERTURBATION, draw_gravity_factors, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
+from plotting.scenes import GRAVITY_PERTURBATION, draw_gravity_factors, drawn_material, hybrid, lookup, surrogate  # noqa: E402  (after the path set-up)
 
 
 def drawn(name, knob, value, material):
@@ -24,7 +24,7 @@ def drawn(name, knob, value, material):
     runs = {name: {"knob": knob, "value": value, "law": "surrogate", "material": material}}
     for k, factor in enumerate(draw_gravity_factors(3), start=1):
         runs[f"{name}_draw_{k}"] = {"knob": f"{knob}, another draw", "value": f"gravity × {factor!r}, fit_seed {k}",
-                                    "law": "surrogate", "material": {**material, "fit_seed": k},
+                                    "law": "surrogate", "material": drawn_material(material, k),
                                     "gravity_factor": factor}
     return runs
 

@@ -138,10 +138,8 @@ def run_scene(name, settings, libs, surrogate, build, args):
              "surrogate_budget_seed": ("surrogate", libs["seed"], {**surrogate, "error_budget": args.error_budget})}
     draws = draw_factors(args.draws)
     gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draws}
-    # Each draw fits the length scales on another set of probes (fit_seed K), the largest source of
-    # the surrogate's scatter found (stop 63), besides its changed gravity.
     law, library, material = specs["surrogate_budget"]
-    specs.update({run: (law, library, {**material, "fit_seed": k}) for k, run in enumerate(draws, start=1)})
+    specs.update({run: (law, library, scenes.drawn_material(material, k)) for k, run in enumerate(draws, start=1)})
     # The scene with live cells and no key of any other law, so that each run's keys are its own
     # (a merge would keep, e.g., the base's fallback keys of another law).
     folder = args.out / "scenes"

@@ -19,6 +19,13 @@ def draw_gravity_factors(draws):
     return [1 + (1 if k % 2 else -1) * ((k + 1) // 2) * GRAVITY_PERTURBATION for k in range(1, draws)]
 
 
+def drawn_material(material, k):
+    """The surrogate material keys of a run's K-th further draw: its length scales fitted on the K-th
+    other set of probes (fit_seed K; database/surrogate/length_scales.hpp), the largest source of the
+    surrogate's scatter found (stop 63)."""
+    return {**material, "fit_seed": k}
+
+
 # The material keys of the library laws, as the studies run them. `lookup` is the total-strain key of
 # `cache` and `hybrid`; `hybrid` adds its live fallback; `surrogate` is the state key.
 LOOKUP = {"k": 4, "tolerance": 1.0, "scales": {"strain": 1e-4, "rate": 1.0, "damage": 0.01}}
