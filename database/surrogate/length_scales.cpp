@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "database/surrogate/estimate_audit.hpp"
+
 namespace grainbank::surrogate {
 
 LengthScales initial_length_scales(const std::vector<Sample>& samples) {
@@ -122,15 +124,11 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
     if (!improved) step /= 2;
   }
   const std::vector<double> errors = errors_of(fitted);
-  std::vector<double> ratios;
-  std::size_t covered = 0;
-  for (const ProbeOutcome& probe : fitted) {
-    ratios.push_back(probe.error == 0 ? 0.0 : probe.error / probe.estimate);
-    if (probe.error <= probe.estimate) ++covered;
-  }
-  fit.coverage = static_cast<double>(covered) / static_cast<double>(fitted.size());
-  std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
-  fit.median_error_over_estimate = ratios[ratios.size() / 2];
+  std::vector<double> estimates;
+  for (const ProbeOutcome& probe : fitted) estimates.push_back(probe.estimate);
+  const EstimateCalibration calibration = calibration_of(errors, estimates);
+  fit.coverage = calibration.coverage;
+  fit.median_error_over_estimate = calibration.median_error_over_estimate;
   fit.gain = paired_change(initial, errors);
   for (std::size_t j = 0; j < kFeatureCount; ++j) {
     const auto change = [&](double factor) {

@@ -109,6 +109,14 @@ nlohmann::json load_balance(const Solver& solver, const Ranks& ranks) {
           {"point_update_seconds_per_step", per_point}};
 }
 
+// Each law's notes of its start or its end, a line each on stderr.
+void print_law_notes(const Solver& solver, const std::vector<std::string>& material_names, bool at_end) {
+  for (std::size_t k = 0; k < solver.law_count(); ++k)
+    for (const std::string& note : (at_end ? solver.law(k).end_report() : solver.law(k).start_report()).notes)
+      std::fprintf(stderr, "mpm_solver: note: material \"%s\" (%s): %s\n", material_names[k].c_str(),
+                   solver.law(k).name().c_str(), note.c_str());
+}
+
 }  // namespace
 
 nlohmann::json run_scene(const RunOptions& options) {
@@ -142,11 +150,7 @@ nlohmann::json run_scene(const RunOptions& options) {
                  "mpm_solver: warning: %s carries no kinetic-energy peak from before t = %g s (an older build's "
                  "restart, or one resumed from it): time.stop_at_rest compares with the peak from then on\n",
                  options.restart.string().c_str(), run_record.kinetic_energy_peak_since);
-  if (root)
-    for (std::size_t k = 0; k < solver.law_count(); ++k)
-      for (const std::string& note : solver.law(k).start_report().notes)
-        std::fprintf(stderr, "mpm_solver: note: material \"%s\" (%s): %s\n", scene.material_names[k].c_str(),
-                     solver.law(k).name().c_str(), note.c_str());
+  if (root) print_law_notes(solver, scene.material_names, false);
   // Rank 0 writes every output; the other ranks step the same solver and measure the same flow.
   std::optional<io::AuditTrailRecorder> audit_trail;
   if (root && !scene.audited_points.empty())
@@ -274,6 +278,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   if (audit_trail) summary["audit_trail"] = (options.out / io::kAuditTrailFile).string();
   summary["load"] = load_balance(solver, *ranks);
   solver.finish();
+  if (root) print_law_notes(solver, scene.material_names, true);
   summary["coupling"] = io::coupling_summary(solver);
   on_root([&] { std::ofstream(options.out / "summary.json") << summary.dump(2) << '\n'; });
   return summary;

@@ -18,9 +18,10 @@ namespace grainbank::mpm {
 class DemBackedLaw;
 class PointSharing;
 
-// What a law settled on when it was built: figures by path (e.g. "length_scales/phi/scale"; the
-// run's summary nests them at each '/'), and notes its user should read before trusting the run.
-struct LawStartReport {
+// What a law settled on when it was built, or measured of its run at the end: figures by path (e.g.
+// "length_scales/phi/scale"; the run's summary nests them at each '/'), and notes its user should
+// read before trusting the run.
+struct LawReport {
   std::vector<std::pair<std::string, double>> figures;
   std::vector<std::string> notes;
 };
@@ -82,7 +83,10 @@ class ConstitutiveLaw {
   virtual PointSharing* point_sharing() { return nullptr; }
 
   // For the run's summary and its start (mpm_solver prints the notes); most laws settle on nothing.
-  virtual LawStartReport start_report() const { return {}; }
+  virtual LawReport start_report() const { return {}; }
+  // For the run's summary and its end, after finish() (mpm_solver prints the notes); most laws
+  // measure nothing of their run.
+  virtual LawReport end_report() const { return {}; }
 
   // The DEM-backed side of the law (live cells, library answers), or null for an analytic law.
   virtual const DemBackedLaw* dem_backed() const { return nullptr; }

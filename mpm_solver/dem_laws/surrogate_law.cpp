@@ -46,6 +46,7 @@ SurrogateLaw::SurrogateLaw(const dem::DemCell& cell_template, surrogate::Dataset
   index_ = std::make_unique<surrogate::SurrogateIndex>(
       dataset.constants, fit_ ? fit_->scales : surrogate::initial_length_scales(dataset.samples), settings_.surrogate);
   index_->insert(dataset.samples);
+  library_ = std::move(dataset.samples);
   StateWarmStartSettings& warm = settings_.state_warm_start;
   if (warm.stress_tolerance == 0) warm.stress_tolerance = settings_.tolerance;
   if (settings_.warm_start == SurrogateLawSettings::WarmStart::state && warm.stress_tolerance > 0) {
@@ -111,8 +112,36 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   p.error = step.estimated_error;
 }
 
-LawStartReport SurrogateLaw::start_report() const {
-  LawStartReport report;
+void SurrogateLaw::finish() {
+  if (library_.empty() || learned_.empty()) return;
+  live_state_audit_ = surrogate::audit_estimate(index_->constants(), library_, index_->scales(), settings_.surrogate,
+                                                learned_, kAuditedStates);
+}
+
+LawReport SurrogateLaw::end_report() const {
+  LawReport report;
+  if (!live_state_audit_) return report;
+  const surrogate::EstimateCalibration& a = *live_state_audit_;
+  report.figures = {{"estimate_on_live_states/samples", static_cast<double>(a.samples)},
+                    {"estimate_on_live_states/coverage", a.coverage},
+                    {"estimate_on_live_states/median_error_over_estimate", a.median_error_over_estimate},
+                    {"estimate_on_live_states/median_error", a.median_error},
+                    {"estimate_on_live_states/median_estimate", a.median_estimate}};
+  if (a.coverage < 0.5) {
+    std::ostringstream note;
+    note << std::fixed << std::setprecision(0) << "where the run went live, the library's error estimate covered "
+         << 100 * a.coverage << " % of its errors";
+    if (fit_) note << " (" << 100 * fit_->coverage << " % on the length-scale fit's probes)";
+    note << std::setprecision(1) << ", their median " << a.median_error_over_estimate
+         << " times the estimate: on this scene's hardest states the estimate is optimistic, and a tolerance in it "
+            "bounds less than it says (summary.json: coupling/laws/estimate_on_live_states)";
+    report.notes.push_back(note.str());
+  }
+  return report;
+}
+
+LawReport SurrogateLaw::start_report() const {
+  LawReport report;
   if (!fit_) return report;
   report.figures = {{"length_scale_fit/seed", static_cast<double>(settings_.fit.seed)},
                     {"length_scale_fit/probes", static_cast<double>(fit_->probes)},

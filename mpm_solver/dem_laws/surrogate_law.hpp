@@ -52,6 +52,12 @@
 // - start_report() gives the length-scale fit (its seed, probes, losses, and each scale with its
 //   evidence, length_scales.hpp) and, when the probes leave scales undetermined, a note naming them:
 //   the fit is a draw along those, and other fit_seed values show what that draw moves.
+// - finish() measures the error estimate where the run went live: the library alone (its dataset,
+//   without what the run learned) predicts at most kAuditedStates of the samples the live cells
+//   learned, at the run's length scales (estimate_audit.hpp). end_report() gives it (samples,
+//   coverage, medians of error/estimate, of the error and of the estimate), and a note when the
+//   estimate covered less than half of those errors. The audit reads only what a restart keeps, so a
+//   resumed run reports the same.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
 //   cell, kept cell, checkpoint and the steps a learned sample spans, and the samples learned so far:
 //   a restart continues bit for bit.
@@ -66,6 +72,7 @@
 #include "mpm_solver/core/dem_backed_law.hpp"
 #include "mpm_solver/dem_laws/live_cell_model.hpp"
 #include "mpm_solver/dem_laws/state_warm_start.hpp"
+#include "database/surrogate/estimate_audit.hpp"
 #include "database/surrogate/length_scales.hpp"
 #include "database/surrogate/reindex.hpp"
 #include "database/surrogate/surrogate_index.hpp"
@@ -111,7 +118,10 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   void save_state(LawStateWriter& out) const override;
   void restore_state(LawStateReader& in) override;
   const DemBackedLaw* dem_backed() const override { return this; }
-  LawStartReport start_report() const override;
+  LawReport start_report() const override;
+  void finish() override;
+  LawReport end_report() const override;
+  static constexpr std::size_t kAuditedStates = 10000;
 
   StressSource source(std::size_t slot) const override { return points_[slot].source; }
   double estimated_error(std::size_t slot) const override { return points_[slot].error; }
@@ -126,6 +136,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   const surrogate::PointState& state(std::size_t slot) const { return points_[slot].state; }
   // Samples inserted from live responses so far.
   std::size_t learned() const;
+  const std::vector<surrogate::Sample>& learned_samples() const { return learned_; }
   // Inserts the samples the step's live points learned, in slot order.
   void end_step() override;
 
@@ -181,6 +192,8 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   LiveCellModel model_;
   surrogate::PointState template_state_;
   std::optional<surrogate::LengthScaleFit> fit_;
+  std::vector<surrogate::Sample> library_;  // the dataset's samples, for the audit at the end
+  std::optional<surrogate::EstimateCalibration> live_state_audit_;  // set by finish()
   std::unique_ptr<surrogate::SurrogateIndex> index_;
   std::optional<StateWarmStart> warm_start_;
   // Appended only by end_step and restore_state, which run outside any parallel region.

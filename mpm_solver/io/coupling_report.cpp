@@ -53,8 +53,8 @@ nlohmann::json coupling_summary(const Solver& solver) {
                     {"regenerations", c.regenerations},
                     {"regenerations_unconverged", c.regenerations_unconverged},
                     {"dispersed_holds", c.dispersed_holds}});
-    for (const auto& [path, value] : law.start_report().figures)
-      laws.back()[nlohmann::json::json_pointer("/" + path)] = value;
+    for (const LawReport& report : {law.start_report(), law.end_report()})
+      for (const auto& [path, value] : report.figures) laws.back()[nlohmann::json::json_pointer("/" + path)] = value;
   }
   return {{"laws", laws},
           {"skipped_point_steps", solver.skipped_updates()},

@@ -201,7 +201,47 @@ TEST(SurrogateLaw, TheRunSummaryCarriesTheFitAndItsEvidence) {
   const std::vector<std::string> notes = law.start_report().notes;
   ASSERT_EQ(notes.size(), undetermined.empty() ? 0u : 1u);
   for (const std::string& name : undetermined) EXPECT_NE(notes[0].find(name), std::string::npos) << notes[0];
-  if (!notes.empty()) EXPECT_NE(notes[0].find("fit_seed"), std::string::npos) << notes[0];
+  if (!notes.empty()) {
+    EXPECT_NE(notes[0].find("fit_seed"), std::string::npos) << notes[0];
+  }
+}
+
+// At its end a run measures the library's estimate on the samples its live cells learned, from the
+// library alone, and a resumed run measures the same.
+TEST(SurrogateLaw, TheRunEndsWithTheEstimateWhereItWentLive) {
+  std::vector<Mat2> motion(20, off_library_motion().front());
+  motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
+  const SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
+  Solver straight = one_point_solver(s);
+  Solver first = one_point_solver(s);
+  Driver d, e;
+  for (std::size_t k = 0; k < motion.size(); ++k) {
+    d(law_of(straight), motion[k], kDt);
+    if (k < motion.size() / 2) e(law_of(first), motion[k], kDt);
+  }
+  const SurrogateLaw& law = law_of(straight);
+  ASSERT_GT(law.learned(), 0u) << "the point never went live";
+  EXPECT_TRUE(law.end_report().figures.empty()) << "measured before the run ended";
+  straight.finish();
+  const surrogate::EstimateCalibration direct =
+      surrogate::audit_estimate(law.index().constants(), shared().dataset.samples, law.index().scales(),
+                                law.index().options(), law.learned_samples(), SurrogateLaw::kAuditedStates);
+  const nlohmann::json summary = io::coupling_summary(straight)["laws"][0]["estimate_on_live_states"];
+  EXPECT_EQ(summary["samples"], static_cast<double>(law.learned()));
+  EXPECT_EQ(summary["coverage"], direct.coverage);
+  EXPECT_EQ(summary["median_error_over_estimate"], direct.median_error_over_estimate);
+  EXPECT_EQ(summary["median_error"], direct.median_error);
+  EXPECT_EQ(summary["median_estimate"], direct.median_estimate);
+  const std::vector<std::string> notes = law.end_report().notes;
+  EXPECT_EQ(notes.size(), direct.coverage < 0.5 ? 1u : 0u);
+  // Resumed halfway, the run ends with the same figures, to the bit.
+  const std::filesystem::path file = shared().dir.path() / "restart_audit.h5";
+  io::write_restart(file, first);
+  Solver resumed = one_point_solver(s);
+  io::read_restart(file, resumed);
+  for (std::size_t k = motion.size() / 2; k < motion.size(); ++k) e(law_of(resumed), motion[k], kDt);
+  resumed.finish();
+  EXPECT_EQ(io::coupling_summary(resumed)["laws"][0]["estimate_on_live_states"], summary);
 }
 
 }  // namespace
