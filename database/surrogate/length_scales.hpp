@@ -21,11 +21,10 @@
 //
 // Calibration, reported and not applied (calibration_of, estimate_audit.hpp): the share of probes
 // whose leave-path-out error the local fit's estimate (local_fit.hpp) covers, and the median of
-// error/estimate, at the fitted scales. The
-// estimate's distance term carries the scales' overall size, which the loss hardly sees (neighbours
-// and weights depend on the scales' ratios; only the ridge sees the rest), so draws of the fit
-// estimate differently at the same true errors (stop 64: medians 2.6× apart), and a column's CPU
-// follows its draw's estimates.
+// error/estimate, at the fitted scales. The estimate's distance term carries the scales' overall
+// size, which the loss hardly sees (neighbours and weights depend on the scales' ratios; only the
+// ridge sees the rest), so draws of the fit estimate differently at the same true errors (stop 64:
+// medians 2.6× apart), and a column's CPU follows its draw's estimates.
 #pragma once
 #include <array>
 #include <cstddef>
