@@ -18,6 +18,12 @@ double median(std::vector<double> values) {
 
 }  // namespace
 
+PredictionOutcome outcome_of(const Prediction& predicted, const Sample& truth) {
+  Answer difference;
+  for (std::size_t c = 0; c < kAnswerSize; ++c) difference[c] = predicted.fit.answer[c] - truth.answer[c];
+  return {stress_norm(difference), predicted.fit.stress_error};
+}
+
 EstimateCalibration calibration_of(std::span<const double> errors, std::span<const double> estimates) {
   if (errors.size() != estimates.size())
     throw std::invalid_argument("estimate calibration: " + std::to_string(errors.size()) + " errors against " +
@@ -45,12 +51,9 @@ EstimateCalibration audit_estimate(const FeatureConstants& constants, const std:
   index.insert(library);
   std::vector<double> errors, estimates;
   for (const std::size_t i : probe_indices(states.size(), at_most, 0)) {
-    const Sample& s = states[i];
-    const Prediction predicted = index.predict(s.features);
-    Answer difference;
-    for (std::size_t c = 0; c < kAnswerSize; ++c) difference[c] = predicted.fit.answer[c] - s.answer[c];
-    errors.push_back(stress_norm(difference));
-    estimates.push_back(predicted.fit.stress_error);
+    const PredictionOutcome outcome = outcome_of(index.predict(states[i].features), states[i]);
+    errors.push_back(outcome.error);
+    estimates.push_back(outcome.estimate);
   }
   return calibration_of(errors, estimates);
 }

@@ -25,6 +25,13 @@
 
 namespace grainbank::surrogate {
 
+// A prediction of a sample, against the sample's own answer: the error (stress_norm of the
+// difference) and the local fit's estimate of it (stress_error), both in normalized units.
+struct PredictionOutcome {
+  double error = 0, estimate = 0;
+};
+PredictionOutcome outcome_of(const Prediction& predicted, const Sample& truth);
+
 struct EstimateCalibration {
   std::size_t samples = 0;
   double coverage = 0;                    // share of samples whose error ≤ the estimate

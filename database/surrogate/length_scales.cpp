@@ -36,23 +36,16 @@ std::vector<std::size_t> probe_indices(std::size_t samples, std::size_t count, s
 
 namespace {
 
-struct ProbeOutcome {
-  double error = 0, estimate = 0;  // stress_norm units
-};
-
-std::vector<ProbeOutcome> predict_probes(const FeatureConstants& constants, const std::vector<Sample>& samples,
+std::vector<PredictionOutcome> predict_probes(const FeatureConstants& constants, const std::vector<Sample>& samples,
                                          const LengthScales& scales, const SurrogateOptions& options,
                                          const std::vector<std::size_t>& probes) {
   SurrogateIndex index(constants, scales, options);
   index.insert(samples);
-  std::vector<ProbeOutcome> outcomes;
+  std::vector<PredictionOutcome> outcomes;
   outcomes.reserve(probes.size());
   for (const std::size_t i : probes) {
     const Sample& s = samples[i];
-    const Prediction predicted = index.predict_without(s.features, {s.origin.path_id, std::nullopt});
-    Answer difference;
-    for (std::size_t c = 0; c < kAnswerSize; ++c) difference[c] = predicted.fit.answer[c] - s.answer[c];
-    outcomes.push_back({stress_norm(difference), predicted.fit.stress_error});
+    outcomes.push_back(outcome_of(index.predict_without(s.features, {s.origin.path_id, std::nullopt}), s));
   }
   return outcomes;
 }
@@ -75,9 +68,9 @@ double paired_change(const std::vector<double>& trial, const std::vector<double>
   return standard_error > 0 ? average / standard_error : 0;
 }
 
-std::vector<double> errors_of(const std::vector<ProbeOutcome>& outcomes) {
+std::vector<double> errors_of(const std::vector<PredictionOutcome>& outcomes) {
   std::vector<double> errors;
-  for (const ProbeOutcome& probe : outcomes) errors.push_back(probe.error);
+  for (const PredictionOutcome& probe : outcomes) errors.push_back(probe.error);
   return errors;
 }
 
@@ -98,7 +91,7 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
   fit.probes = probes.size();
   fit.scales = initial_length_scales(samples);
   // The probes' outcomes at the fit's scales, kept from the search for the evidence and calibration.
-  std::vector<ProbeOutcome> fitted = predict_probes(constants, samples, fit.scales, options, probes);
+  std::vector<PredictionOutcome> fitted = predict_probes(constants, samples, fit.scales, options, probes);
   const std::vector<double> initial = errors_of(fitted);
   fit.initial_loss = fit.loss = mean(initial);
   fit.evaluations = 1;
@@ -109,7 +102,7 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
       for (const double factor : {std::exp(step), std::exp(-step)}) {
         LengthScales trial = fit.scales;
         trial[j] *= factor;
-        std::vector<ProbeOutcome> outcomes = predict_probes(constants, samples, trial, options, probes);
+        std::vector<PredictionOutcome> outcomes = predict_probes(constants, samples, trial, options, probes);
         const double loss = mean(errors_of(outcomes));
         ++fit.evaluations;
         if (loss < fit.loss) {
@@ -125,7 +118,7 @@ LengthScaleFit fit_length_scales(const FeatureConstants& constants, const std::v
   }
   const std::vector<double> errors = errors_of(fitted);
   std::vector<double> estimates;
-  for (const ProbeOutcome& probe : fitted) estimates.push_back(probe.estimate);
+  for (const PredictionOutcome& probe : fitted) estimates.push_back(probe.estimate);
   const EstimateCalibration calibration = calibration_of(errors, estimates);
   fit.coverage = calibration.coverage;
   fit.median_error_over_estimate = calibration.median_error_over_estimate;
