@@ -2,12 +2,9 @@
 
 #include <algorithm>
 #include <chrono>
-#include <iomanip>
 #include <optional>
 #include <span>
-#include <sstream>
 #include <stdexcept>
-#include <string>
 
 #include "mpm_solver/dem_laws/warm_start.hpp"
 
@@ -110,67 +107,6 @@ void SurrogateLaw::update(std::size_t slot, const KinematicIncrement& increment,
   stress = plane_stress_of(p.state.stress);
   p.source = StressSource::hit;
   p.error = step.estimated_error;
-}
-
-void SurrogateLaw::finish() {
-  if (library_.empty() || learned_.empty()) return;
-  live_state_audit_ = surrogate::audit_estimate(index_->constants(), library_, index_->scales(), settings_.surrogate,
-                                                learned_, kAuditedStates);
-}
-
-LawReport SurrogateLaw::end_report() const {
-  LawReport report;
-  if (!live_state_audit_) return report;
-  const surrogate::EstimateCalibration& a = *live_state_audit_;
-  report.figures = {{"estimate_on_live_states/samples", static_cast<double>(a.samples)},
-                    {"estimate_on_live_states/coverage", a.coverage},
-                    {"estimate_on_live_states/median_error_over_estimate", a.median_error_over_estimate},
-                    {"estimate_on_live_states/median_error", a.median_error},
-                    {"estimate_on_live_states/median_estimate", a.median_estimate}};
-  if (a.coverage < 0.5) {
-    std::ostringstream note;
-    note << std::fixed << std::setprecision(0) << "where the run went live, the library's error estimate covered "
-         << 100 * a.coverage << " % of its errors";
-    if (fit_) note << " (" << 100 * fit_->coverage << " % on the length-scale fit's probes)";
-    note << std::setprecision(1) << ", their median " << a.median_error_over_estimate
-         << " times the estimate: on this scene's hardest states the estimate is optimistic, and a tolerance in it "
-            "bounds less than it says (summary.json: coupling/laws/estimate_on_live_states)";
-    report.notes.push_back(note.str());
-  }
-  return report;
-}
-
-LawReport SurrogateLaw::start_report() const {
-  LawReport report;
-  if (!fit_) return report;
-  report.figures = {{"length_scale_fit/seed", static_cast<double>(settings_.fit.seed)},
-                    {"length_scale_fit/probes", static_cast<double>(fit_->probes)},
-                    {"length_scale_fit/initial_loss", fit_->initial_loss},
-                    {"length_scale_fit/loss", fit_->loss},
-                    {"length_scale_fit/gain", fit_->gain},
-                    {"length_scale_fit/coverage", fit_->coverage},
-                    {"length_scale_fit/median_error_over_estimate", fit_->median_error_over_estimate}};
-  std::string undetermined;
-  for (std::size_t j = 0; j < surrogate::kFeatureCount; ++j) {
-    const std::string name(surrogate::kFeatureNames[j]);
-    const surrogate::ScaleEvidence& e = fit_->evidence[j];
-    report.figures.insert(report.figures.end(), {{"length_scales/" + name + "/scale", fit_->scales[j]},
-                                                 {"length_scales/" + name + "/finer", e.finer},
-                                                 {"length_scales/" + name + "/coarser", e.coarser}});
-    if (!e.determined()) undetermined += (undetermined.empty() ? "" : ", ") + name;
-  }
-  if (!undetermined.empty()) {
-    std::ostringstream note;
-    note.precision(2);
-    note << "the length-scale fit is a draw along " << undetermined << ": the library's " << fit_->probes
-         << " probes move its loss by less than two standard errors when one of these scales is made e times finer or "
-            "coarser (the fit's gain over its start: "
-         << fit_->gain << " standard errors). Runs with other \"fit_seed\" values show what the draw moves; the "
-         << "fit, and how often its error estimate covered the probes' errors (" << std::fixed << std::setprecision(0)
-         << 100 * fit_->coverage << " %), are in summary.json (coupling/laws/length_scales, length_scale_fit)";
-    report.notes.push_back(note.str());
-  }
-  return report;
 }
 
 surrogate::SurrogateStep SurrogateLaw::answer(Point& p, const dem::Mat3& L, double dt) const {

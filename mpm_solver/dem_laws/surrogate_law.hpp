@@ -56,8 +56,10 @@
 //   without what the run learned) predicts at most kAuditedStates of the samples the live cells
 //   learned, at the run's length scales (estimate_audit.hpp). end_report() gives it (samples,
 //   coverage, medians of error/estimate, of the error and of the estimate), and a note when the
-//   estimate covered less than half of those errors. The audit reads only what a restart keeps, so a
-//   resumed run reports the same.
+//   estimate covered less than half of those errors. It also gives where those samples lay against
+//   the library's, feature by feature (library_reach.hpp, beyond all but kReachTail of the library's
+//   samples at either end), and a note naming the features in which a share kReachNoted or more of
+//   them lay beyond. Both read only what a restart keeps, so a resumed run reports the same.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
 //   cell, kept cell, checkpoint and the steps a learned sample spans, and the samples learned so far:
 //   a restart continues bit for bit.
@@ -74,6 +76,7 @@
 #include "mpm_solver/dem_laws/state_warm_start.hpp"
 #include "database/surrogate/estimate_audit.hpp"
 #include "database/surrogate/length_scales.hpp"
+#include "database/surrogate/library_reach.hpp"
 #include "database/surrogate/reindex.hpp"
 #include "database/surrogate/surrogate_index.hpp"
 #include "database/surrogate/surrogate_step.hpp"
@@ -122,6 +125,9 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   void finish() override;
   LawReport end_report() const override;
   static constexpr std::size_t kAuditedStates = 10000;
+  // The library's share left out at either end of each feature, and the share of live states beyond
+  // one end that the end report notes.
+  static constexpr double kReachTail = 0.01, kReachNoted = 0.25;
 
   StressSource source(std::size_t slot) const override { return points_[slot].source; }
   double estimated_error(std::size_t slot) const override { return points_[slot].error; }
@@ -194,6 +200,7 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   std::optional<surrogate::LengthScaleFit> fit_;
   std::vector<surrogate::Sample> library_;  // the dataset's samples, for the audit at the end
   std::optional<surrogate::EstimateCalibration> live_state_audit_;  // set by finish()
+  std::optional<surrogate::LibraryReach> live_state_reach_;         // set by finish()
   std::unique_ptr<surrogate::SurrogateIndex> index_;
   std::optional<StateWarmStart> warm_start_;
   // Appended only by end_step and restore_state, which run outside any parallel region.

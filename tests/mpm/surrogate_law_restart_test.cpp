@@ -2,6 +2,7 @@
 // scene names the law and its keys are checked, and the run's summary carries its length-scale fit.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -13,6 +14,7 @@
 #include "mpm_solver/io/coupling_report.hpp"
 #include "mpm_solver/io/restart.hpp"
 #include "mpm_solver/io/scene_input.hpp"
+#include "database/surrogate/library_reach.hpp"
 
 namespace grainbank::mpm {
 namespace {
@@ -208,7 +210,7 @@ TEST(SurrogateLaw, TheRunSummaryCarriesTheFitAndItsEvidence) {
 
 // At its end a run measures the library's estimate on the samples its live cells learned, from the
 // library alone, and a resumed run measures the same.
-TEST(SurrogateLaw, TheRunEndsWithTheEstimateWhereItWentLive) {
+TEST(SurrogateLaw, TheRunEndsWithTheEstimateAndTheLibrarysReachWhereItWentLive) {
   std::vector<Mat2> motion(20, off_library_motion().front());
   motion.insert(motion.end(), 40, Mat2{{1.0, 0.0}, {0.0, 1.0}});
   const SurrogateLawSettings s = settings(0.5 * median_tolerance(motion), 2);
@@ -232,8 +234,33 @@ TEST(SurrogateLaw, TheRunEndsWithTheEstimateWhereItWentLive) {
   EXPECT_EQ(summary["median_error_over_estimate"], direct.median_error_over_estimate);
   EXPECT_EQ(summary["median_error"], direct.median_error);
   EXPECT_EQ(summary["median_estimate"], direct.median_estimate);
+  // Where the learned states lay against the library's samples, feature by feature.
+  const surrogate::LibraryReach reach =
+      surrogate::library_reach(shared().dataset.samples, law.learned_samples(), SurrogateLaw::kReachTail);
+  const nlohmann::json beyond = io::coupling_summary(straight)["laws"][0]["live_states_beyond_library"];
+  EXPECT_EQ(beyond["states"], static_cast<double>(law.learned()));
+  EXPECT_EQ(beyond["tail"], SurrogateLaw::kReachTail);
+  EXPECT_EQ(beyond["any"], reach.beyond_any);
+  bool noted_reach = false;
+  for (std::size_t j = 0; j < surrogate::kFeatureCount; ++j) {
+    const std::string name(surrogate::kFeatureNames[j]);
+    EXPECT_EQ(beyond[name]["below"], reach.features[j].below) << name;
+    EXPECT_EQ(beyond[name]["above"], reach.features[j].above) << name;
+    noted_reach |= std::max(reach.features[j].below, reach.features[j].above) >= SurrogateLaw::kReachNoted;
+  }
   const std::vector<std::string> notes = law.end_report().notes;
-  EXPECT_EQ(notes.size(), direct.coverage < 0.5 ? 1u : 0u);
+  EXPECT_EQ(notes.size(), (direct.coverage < 0.5 ? 1u : 0u) + (noted_reach ? 1u : 0u));
+  // Off the library's motion, the point's states lie beyond its samples, and the note names each
+  // feature and side beyond which a noted share of them lay, and no other.
+  ASSERT_TRUE(noted_reach);
+  const std::string& note = notes.back();
+  for (std::size_t j = 0; j < surrogate::kFeatureCount; ++j) {
+    const std::string name(surrogate::kFeatureNames[j]);
+    const std::pair<std::string, double> sides[] = {{" below in ", reach.features[j].below},
+                                                    {" above in ", reach.features[j].above}};
+    for (const auto& [side, share] : sides)
+      EXPECT_EQ(note.find(name + side) != std::string::npos, share >= SurrogateLaw::kReachNoted) << name << side;
+  }
   // Resumed halfway, the run ends with the same figures, to the bit.
   const std::filesystem::path file = shared().dir.path() / "restart_audit.h5";
   io::write_restart(file, first);
@@ -242,6 +269,7 @@ TEST(SurrogateLaw, TheRunEndsWithTheEstimateWhereItWentLive) {
   for (std::size_t k = motion.size() / 2; k < motion.size(); ++k) e(law_of(resumed), motion[k], kDt);
   resumed.finish();
   EXPECT_EQ(io::coupling_summary(resumed)["laws"][0]["estimate_on_live_states"], summary);
+  EXPECT_EQ(io::coupling_summary(resumed)["laws"][0]["live_states_beyond_library"], beyond);
 }
 
 }  // namespace
