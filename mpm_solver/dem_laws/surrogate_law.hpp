@@ -199,8 +199,12 @@ class SurrogateLaw : public ConstitutiveLaw, public DemBackedLaw {
   surrogate::PointState template_state_;
   std::optional<surrogate::LengthScaleFit> fit_;
   std::vector<surrogate::Sample> library_;  // the dataset's samples, for the audit at the end
-  std::optional<surrogate::EstimateCalibration> live_state_audit_;  // set by finish()
-  std::optional<surrogate::LibraryReach> live_state_reach_;         // set by finish()
+  // What finish() measured where the run went live: the library's estimate there, and its reach.
+  struct LiveStateMeasures {
+    surrogate::EstimateCalibration estimate;
+    surrogate::LibraryReach reach;
+  };
+  std::optional<LiveStateMeasures> live_states_;  // set by finish()
   std::unique_ptr<surrogate::SurrogateIndex> index_;
   std::optional<StateWarmStart> warm_start_;
   // Appended only by end_step and restore_state, which run outside any parallel region.

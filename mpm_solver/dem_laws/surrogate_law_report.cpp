@@ -2,6 +2,7 @@
 // error estimate and its library's samples met the states where its cells ran live.
 #include <algorithm>
 #include <iomanip>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <utility>
@@ -32,6 +33,25 @@ std::vector<std::string> features_beyond(const surrogate::LibraryReach& reach, d
   return out;
 }
 
+// `probe_coverage`: the length-scale fit's coverage on its probes, when there was a fit.
+void add_estimate(const surrogate::EstimateCalibration& a, std::optional<double> probe_coverage, LawReport& report) {
+  report.figures.insert(report.figures.end(),
+                        {{"estimate_on_live_states/samples", static_cast<double>(a.samples)},
+                         {"estimate_on_live_states/coverage", a.coverage},
+                         {"estimate_on_live_states/median_error_over_estimate", a.median_error_over_estimate},
+                         {"estimate_on_live_states/median_error", a.median_error},
+                         {"estimate_on_live_states/median_estimate", a.median_estimate}});
+  if (a.coverage >= 0.5) return;
+  std::ostringstream note;
+  note << std::fixed << std::setprecision(0) << "where the run went live, the library's error estimate covered "
+       << 100 * a.coverage << " % of its errors";
+  if (probe_coverage) note << " (" << 100 * *probe_coverage << " % on the length-scale fit's probes)";
+  note << std::setprecision(1) << ", their median " << a.median_error_over_estimate
+       << " times the estimate: on this scene's hardest states the estimate is optimistic, and a tolerance in it "
+          "bounds less than it says (summary.json: coupling/laws/estimate_on_live_states)";
+  report.notes.push_back(note.str());
+}
+
 void add_reach(const surrogate::LibraryReach& reach, LawReport& report) {
   const std::string root = "live_states_beyond_library/";
   report.figures.insert(report.figures.end(), {{root + "states", static_cast<double>(reach.states)},
@@ -58,31 +78,16 @@ void add_reach(const surrogate::LibraryReach& reach, LawReport& report) {
 
 void SurrogateLaw::finish() {
   if (library_.empty() || learned_.empty()) return;
-  live_state_audit_ = surrogate::audit_estimate(index_->constants(), library_, index_->scales(), settings_.surrogate,
-                                                learned_, kAuditedStates);
-  live_state_reach_ = surrogate::library_reach(library_, learned_, kReachTail);
+  live_states_ = {surrogate::audit_estimate(index_->constants(), library_, index_->scales(), settings_.surrogate,
+                                           learned_, kAuditedStates),
+                  surrogate::library_reach(library_, learned_, kReachTail)};
 }
 
 LawReport SurrogateLaw::end_report() const {
   LawReport report;
-  if (!live_state_audit_) return report;
-  const surrogate::EstimateCalibration& a = *live_state_audit_;
-  report.figures = {{"estimate_on_live_states/samples", static_cast<double>(a.samples)},
-                    {"estimate_on_live_states/coverage", a.coverage},
-                    {"estimate_on_live_states/median_error_over_estimate", a.median_error_over_estimate},
-                    {"estimate_on_live_states/median_error", a.median_error},
-                    {"estimate_on_live_states/median_estimate", a.median_estimate}};
-  if (a.coverage < 0.5) {
-    std::ostringstream note;
-    note << std::fixed << std::setprecision(0) << "where the run went live, the library's error estimate covered "
-         << 100 * a.coverage << " % of its errors";
-    if (fit_) note << " (" << 100 * fit_->coverage << " % on the length-scale fit's probes)";
-    note << std::setprecision(1) << ", their median " << a.median_error_over_estimate
-         << " times the estimate: on this scene's hardest states the estimate is optimistic, and a tolerance in it "
-            "bounds less than it says (summary.json: coupling/laws/estimate_on_live_states)";
-    report.notes.push_back(note.str());
-  }
-  add_reach(*live_state_reach_, report);
+  if (!live_states_) return report;
+  add_estimate(live_states_->estimate, fit_ ? std::optional(fit_->coverage) : std::nullopt, report);
+  add_reach(live_states_->reach, report);
   return report;
 }
 
