@@ -24,7 +24,7 @@ import variants  # noqa: E402
 
 
 ERRORS = ["front_rel_err", "runout_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m",
-          "mass_edge_rel_err", "centroid_rel_err", "damage_change"]
+          "mass_edge_rel_err", "centroid_rel_err", "damage_change", "kinetic_energy_change"]
 AGAINST_NOISE = ["front_rel_err", "stress_rel_l2", "stress_smoothed_rel_l2", "deposit_rms_m", "mass_edge_rel_err",
                  "centroid_rel_err"]
 COLUMNS = ["run", "knob", "value", "law", "points", "steps", "wall_s", "cpu_s", *ERRORS,
@@ -187,7 +187,7 @@ class AccuracyVsTimeTest(WorkflowTest):
         for key in ("runout_rel_err", "mass_edge_rel_err", "centroid_rel_err"):
             self.assertIn(errors.pop(key), (None, 0.0))  # None: the tiny column moved < 1 cm
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "stress_smoothed_rel_l2": 0.0,
-                                  "deposit_rms_m": 0.0, "damage_change": 0.0})
+                                  "deposit_rms_m": 0.0, "damage_change": 0.0, "kinetic_energy_change": 0.0})
         # Not zero by accident: past the stop the reference's stress field still changes.
         snapshots = {round(s.time, 9): s for s in vtu.read_run(reference)}
         last_before_stop = max(t for t in snapshots if t <= stop)
@@ -204,4 +204,6 @@ class AccuracyVsTimeTest(WorkflowTest):
         self.assertAlmostEqual(errors["mass_edge_rel_err"], 0.1, delta=1e-6)
         self.assertAlmostEqual(errors["centroid_rel_err"], 0.1, delta=1e-6)
         self.assertAlmostEqual(errors["runout_rel_err"], 0.1, delta=1e-6)
+        # Kinetic energy goes as v²: 1.1² − 1.
+        self.assertAlmostEqual(errors["kinetic_energy_change"], 0.21, delta=1e-6)
         self.assertEqual(run_compare.errors(reference, reference)["centroid_rel_err"], 0.0)

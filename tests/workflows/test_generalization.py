@@ -39,8 +39,14 @@ class GeneralizationTest(WorkflowTest):
         self.assertEqual(list(summary["scenes"]), ["aspect_1_bond_1"])
         scene = summary["scenes"]["aspect_1_bond_1"]
         for key in ("cpu_ratio_to_live", "live_fraction", "runout_rel_error", "runout_rel_change_draws", "noise_floor",
-                    "chaos_floor", "runout_rel_error_seed_library", "damage_change", "damage_noise_floor"):
+                    "chaos_floor", "runout_rel_error_seed_library", "damage_change", "damage_noise_floor",
+                    "kinetic_energy_change", "kinetic_energy_change_draws", "kinetic_energy_noise_floor"):
             self.assertIn(key, scene)
+        # The kinetic energy's change: the mean of the draws' signed changes, each its run's against live.
+        draws = [scene["runs"][run]["kinetic_energy_change"] for run in ("surrogate_budget", "surrogate_budget_draw_1")]
+        self.assertEqual(scene["kinetic_energy_change_draws"], draws)
+        if None not in draws:
+            self.assertAlmostEqual(scene["kinetic_energy_change"], sum(draws) / 2)
         # The tiny column's cells are bonded: D is a share of bonds, its change between two runs at most 1.
         self.assertEqual(scene["damage_change"], scene["runs"]["surrogate_budget"]["damage_change"])
         self.assertLessEqual(abs(scene["damage_change"]), 1.0)
@@ -94,7 +100,7 @@ class GeneralizationTest(WorkflowTest):
         for key in ("runout_rel_err", "mass_edge_rel_err", "centroid_rel_err"):
             self.assertIn(errors.pop(key), (None, 0.0))
         self.assertEqual(errors, {"front_rel_err": 0.0, "stress_rel_l2": 0.0, "stress_smoothed_rel_l2": 0.0,
-                                  "deposit_rms_m": 0.0, "damage_change": 0.0})
+                                  "deposit_rms_m": 0.0, "damage_change": 0.0, "kinetic_energy_change": 0.0})
         self.assertTrue(json.loads((again / "summary.json").read_text())["final_time"] > 0)
 
     def test_surrogate_keys_that_are_not_a_json_object_are_refused_naming_the_file(self):

@@ -72,6 +72,18 @@ class FlowTest(WorkflowTest):
         self.assertIsNone(run_compare.final_runout_change(short, creeping))
         self.assertIsNone(run_compare.final_runout_error(short, creeping))
 
+    def test_final_kinetic_energy_change_is_signed_and_none_at_rest(self):
+        reference = {"t": np.array([0, 1, 2.0]), "kinetic_energy": np.array([0.0, 4.0, 2.0])}
+        series = {"t": np.array([0, 1, 2.0]), "kinetic_energy": np.array([0.0, 5.0, 2.5])}
+        self.assertAlmostEqual(run_compare.final_kinetic_energy_change(series, reference), 0.25)
+        self.assertAlmostEqual(run_compare.final_kinetic_energy_change(reference, series), -0.2)
+        # The last shared row counts: a longer run is compared where the reference ends.
+        longer = {"t": np.array([0, 1, 2, 3.0]), "kinetic_energy": np.array([0.0, 5.0, 1.0, 9.0])}
+        self.assertAlmostEqual(run_compare.final_kinetic_energy_change(longer, reference), -0.5)
+        # A reference at rest, below 1 % of its peak, has no relative change.
+        settled = {"t": np.array([0, 1, 2.0]), "kinetic_energy": np.array([0.0, 4.0, 0.03])}
+        self.assertIsNone(run_compare.final_kinetic_energy_change(series, settled))
+
     def test_stress_errors(self):
         xy = [[0, 0], [1, 0], [0, 1]]
         stress = [[-1, -2, 0.5], [-3, -1, 0], [0, -4, 1]]

@@ -38,7 +38,9 @@ final runout, stress field, deposit profile).
 Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live and live_fraction, its
 runout_rel_error as |the mean over its draws of (runout − live's) / live's| (each draw's signed change
 in runout_rel_change_draws), and
-noise_floor = live_seed's runout_rel_error, chaos_floor = live_perturbed's;
+noise_floor = live_seed's runout_rel_error, chaos_floor = live_perturbed's; kinetic_energy_change, the
+mean over the draws of the signed relative change of the kinetic energy at the end (each draw's in
+kinetic_energy_change_draws), and kinetic_energy_noise_floor, live_seed's |change|;
 runout_rel_error_seed_library =
 surrogate_budget_seed's against live_seed; every run's figures under "runs", each against its
 reference, "reference" naming it),
@@ -178,11 +180,17 @@ def measure(name, costs, args):
                                                for r in (run, "live")))
              for run in ["surrogate_budget", *draw_factors(args.draws)]]
     measured = [change for change in draws if change is not None]  # None: the live column ran out < 1 cm
+    energies = [runs[run]["kinetic_energy_change"] for run in ["surrogate_budget", *draw_factors(args.draws)]]
+    moving = [change for change in energies if change is not None]  # None: the live column is at rest
     return {"cpu_ratio_to_live": s["cpu_ratio_to_live"], "live_fraction": s["live_fraction"],
             "runout_rel_error": abs(sum(measured) / len(measured)) if measured else None,
             "runout_rel_change_draws": draws,
             "noise_floor": runs["live_seed"]["runout_rel_err"],
             "damage_change": s["damage_change"], "damage_noise_floor": abs(runs["live_seed"]["damage_change"]),
+            "kinetic_energy_change": sum(moving) / len(moving) if moving else None,
+            "kinetic_energy_change_draws": energies,
+            "kinetic_energy_noise_floor": (None if runs["live_seed"]["kinetic_energy_change"] is None
+                                           else abs(runs["live_seed"]["kinetic_energy_change"])),
             "chaos_floor": runs["live_perturbed"]["runout_rel_err"],
             "runout_rel_error_seed_library": runs["surrogate_budget_seed"]["runout_rel_err"], "runs": runs}
 

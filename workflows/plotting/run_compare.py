@@ -6,7 +6,8 @@ discretisation differs), smoothed stress = the same of both fields averaged over
 (flow.smoothed_stress_error), deposit = RMS difference of the free-surface height at the last common
 output [m], mass edge and centroid = relative errors of the
 advance of the 95 % mass edge and of the centroid there (None when the reference's moved less than 1 cm):
-the bulk measures, which converge with the grid where the front does not."""
+the bulk measures, which converge with the grid where the front does not; kinetic energy = its signed
+relative change at the last common row (None when the reference is nearly at rest there)."""
 import json
 from pathlib import Path
 
@@ -52,6 +53,23 @@ def final_runout_change(series, reference, min_runout=0.01):
     return float((r - ref[t]) / ref[t])
 
 
+def final_kinetic_energy_change(series, reference, min_share_of_peak=0.01):
+    """(kinetic energy − reference's) / reference's at the last row they share, signed (positive: the
+    run moves more); None when the reference's kinetic energy there is below `min_share_of_peak` of its
+    peak up to then (a column at rest: a ratio of noise over a tiny number). The inertial measure of a
+    flow: its bulk may move faster or slower while its front, set by a few points, keeps its place."""
+    ref_t, ref_energy = np.round(reference["t"], 9), np.asarray(reference["kinetic_energy"], dtype=float)
+    ref = dict(zip(ref_t, ref_energy))
+    common = [(t, e) for t, e in zip(np.round(series["t"], 9), series["kinetic_energy"]) if t in ref]
+    if not common:
+        return None
+    t, energy = common[-1]
+    peak = ref_energy[ref_t <= t].max()
+    if not ref[t] > 0 or ref[t] < min_share_of_peak * peak:
+        return None
+    return float((energy - ref[t]) / ref[t])
+
+
 def final_runout_error(series, reference, min_runout=0.01):
     """|final_runout_change|, or None where it is."""
     change = final_runout_change(series, reference, min_runout)
@@ -90,4 +108,5 @@ def errors(folder, reference_folder):
         # Signed, in D's own units: a surrogate's bias in the bonds it breaks, which the stress and the
         # runout need not show (README, "Stop 57").
         "damage_change": flow.mean_damage(final) - flow.mean_damage(ref_final),
+        "kinetic_energy_change": final_kinetic_energy_change(series, ref_series),
     }
