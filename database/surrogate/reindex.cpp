@@ -103,7 +103,9 @@ std::vector<Sample> without_repeats(std::vector<SpannedSample> all) {
 
 }  // namespace
 
-FeatureConstants library_constants(db::Library& library) {
+FeatureConstants library_constants(db::Library& library, double pressure_floor) {
+  if (!(pressure_floor > 0 && pressure_floor <= 1))
+    throw std::invalid_argument("pressure_floor: expected a share of the preparation pressure in (0, 1]");
   const std::vector<db::TemplateRow> templates = library.catalogue().templates();
   if (templates.empty()) throw db::StoreError(library.directory(), "no template: the surrogate needs its pressure and grain size");
   double pressure = 0, diameter = 0;
@@ -115,13 +117,15 @@ FeatureConstants library_constants(db::Library& library) {
     diameter += sum / static_cast<double>(cell.radius.size());
   }
   const double n = static_cast<double>(templates.size());
-  FeatureConstants c{pressure / n, pressure / n / 10, diameter / n, library.material().density};
+  // Divided by its reciprocal (1 / 0.1 is 10 exactly): the default floor is p_ref / 10 to the bit, as
+  // before the floor was a setting, so runs on it are the same runs.
+  FeatureConstants c{pressure / n, pressure / n / (1 / pressure_floor), diameter / n, library.material().density};
   check(c);
   return c;
 }
 
-Dataset reindex(db::Library& library, std::size_t span) {
-  Dataset dataset{library_constants(library), {}};
+Dataset reindex(db::Library& library, std::size_t span, double pressure_floor) {
+  Dataset dataset{library_constants(library, pressure_floor), {}};
   std::vector<SpannedSample> all;
   for (const db::PathRow& path : library.catalogue().paths()) {
     if (path.status != db::PathStatus::done || path.record_count < 2) continue;

@@ -31,10 +31,17 @@
 // - Only committed records of `done` paths are read (as the nearest-state index does); nothing is
 //   written to the library.
 // - The constants come from the library itself: p_ref the mean pressure of its templates (the
-//   pressure they were prepared at), p_floor = p_ref / 10, d the mean grain diameter of its
-//   templates, ρ its material's grain density. The floor is high on purpose: a cohesive cell near or
-//   in tension gets its stiffness from its bonds, not from p, and normalizing by p_ref/100 made the
-//   answers of such states a hundred times those of compressed ones (measured on a sampled library).
+//   pressure they were prepared at), p_floor = pressure_floor · p_ref (default kPressureFloor =
+//   0.1), d the mean grain diameter of its templates, ρ its material's grain density. The floor is
+//   high on purpose: a cohesive cell near or in tension gets its stiffness from its bonds, not from
+//   p, and normalizing by p_ref/100 made the answers of such states a hundred times those of
+//   compressed ones (measured on a sampled library). Below its preparation pressure a packing is
+//   overconsolidated: it unloads at the stiffness its contacts and bonds were made with (the
+//   generalization study's bonded cell goes from 200 Pa to 200 Pa of tension at one slope), so
+//   pressure_floor = 1 makes an elastic unloading one answer at every pressure below p_ref, where
+//   with 0.1 its answer grows as 1/p down to the floor and a point unloaded from p_ref slows as it
+//   nears p_floor, breaking bonds its cell keeps. What each gives and costs on the generalization
+//   study's columns: docs/surrogate.md, "Stop 67".
 #pragma once
 #include <string>
 #include <vector>
@@ -63,10 +70,14 @@ struct HeldSegment {
 // The pressure-controlled segments of a path's canonical spec (PathRow::spec; none for a replay).
 std::vector<HeldSegment> held_segments(const std::string& spec);
 
-// Throws db::StoreError when the library has no template.
-FeatureConstants library_constants(db::Library& library);
+inline constexpr double kPressureFloor = 0.1;  // p_floor / p_ref unless a law asks for another
 
-// The samples of the library's done paths, each spanning up to `span` ≥ 1 intervals, one per key.
-Dataset reindex(db::Library& library, std::size_t span = 1);
+// Throws db::StoreError when the library has no template, std::invalid_argument unless
+// pressure_floor (p_floor / p_ref) is in (0, 1].
+FeatureConstants library_constants(db::Library& library, double pressure_floor = kPressureFloor);
+
+// The samples of the library's done paths, each spanning up to `span` ≥ 1 intervals, one per key,
+// keyed and normalized with library_constants(library, pressure_floor).
+Dataset reindex(db::Library& library, std::size_t span = 1, double pressure_floor = kPressureFloor);
 
 }  // namespace grainbank::surrogate

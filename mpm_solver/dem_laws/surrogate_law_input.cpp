@@ -22,14 +22,15 @@ using common::Range;
 
 // {"law": "surrogate", "library": LIB, "template": id, "tolerance": Pa} with the optional "cell"
 // (the library must have its material), "error_budget" [Pa], "k", "sample_span", "fit_seed" (which
-// probes the length-scale fit uses, length_scales.hpp), "fallback":
+// probes the length-scale fit uses, length_scales.hpp), "pressure_floor" (p_floor / p_ref, reindex.hpp),
+// "fallback":
 // {"return_after", "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance],
 // "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell":
 // "template" | "snapshot", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and
 // "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
-                                      "error_budget", "k",  "sample_span", "fit_seed", "substepping", "q_h",
-                                      "retiling", "fallback"};
+                                      "error_budget", "k",  "sample_span", "fit_seed", "pressure_floor",
+                                      "substepping", "q_h", "retiling", "fallback"};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;
@@ -40,6 +41,8 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   s.sample_span = static_cast<std::size_t>(
       material.integer_or("sample_span", static_cast<std::int64_t>(s.sample_span), 1, 1000));
   s.fit.seed = static_cast<std::uint64_t>(material.integer_or("fit_seed", 0, 0, 1000000000));
+  const double pressure_floor =
+      material.number_or("pressure_floor", surrogate::kPressureFloor, common::Range::between(0, 1, true, false));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
                           "catch_up_steps", "catch_up_legs", "first_cell", "unconverged"});
@@ -76,7 +79,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   std::vector<StateSnapshot> snapshots;
   try {
     link = std::make_unique<LibraryLink>(scene.folder / lib.string(), id, expected ? &*expected : nullptr);
-    dataset = link->locked([&](db::Library& library) { return surrogate::reindex(library, s.sample_span); });
+    dataset = link->locked([&](db::Library& library) { return surrogate::reindex(library, s.sample_span, pressure_floor); });
     if (s.warm_start == SurrogateLawSettings::WarmStart::state &&
         s.state_warm_start.first_cell == StateWarmStartSettings::FirstCell::nearest_snapshot)
       snapshots = link->state_snapshots();

@@ -173,6 +173,24 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
   } catch (const common::InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/materials/0/fit_seed"), std::string::npos) << e.what();
   }
+  // The normalization's pressure floor is a tenth of the preparation pressure unless the scene
+  // names another share of it (reindex.hpp), up to all of it.
+  const surrogate::FeatureConstants& constants = law.index().constants();
+  EXPECT_DOUBLE_EQ(constants.p_floor, constants.p_ref / 10);
+  const io::Scene overconsolidated = io::load_scene(write_scene(R"(, "pressure_floor": 1)"));
+  const surrogate::FeatureConstants& at_preparation =
+      dynamic_cast<const SurrogateLaw&>(overconsolidated.solver->law(0)).index().constants();
+  EXPECT_EQ(at_preparation.p_floor, at_preparation.p_ref);
+  EXPECT_EQ(at_preparation.p_ref, constants.p_ref);
+  for (const char* share : {R"(, "pressure_floor": 0)", R"(, "pressure_floor": 1.5)"}) {
+    try {
+      io::load_scene(write_scene(share));
+      FAIL() << share << " was accepted";
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("/materials/0/pressure_floor"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("(0, 1]"), std::string::npos) << e.what();
+    }
+  }
   // A point's first cell is the template caught up by default; the library's snapshots are read only
   // for first_cell "snapshot".
   EXPECT_EQ(law.state_warm_start()->size(), 1u);
