@@ -62,7 +62,9 @@
 //   them lay beyond. Both read only what a restart keeps, so a resumed run reports the same.
 // - save_state/restore_state keep each point's state, live flag, steps inside, replay history,
 //   cell, kept cell, checkpoint and the steps a learned sample spans, and the samples learned so far:
-//   a restart continues bit for bit.
+//   a restart continues bit for bit. It also keeps the constants and the sample span those samples
+//   were made with, and a law keyed otherwise (another library, pressure_floor or sample_span)
+//   refuses to restore them.
 #pragma once
 #include <atomic>
 #include <limits>

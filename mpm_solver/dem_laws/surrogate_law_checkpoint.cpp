@@ -19,12 +19,15 @@ namespace {
 // the learned samples as rows features, answer, origin path, origin record, in insertion order;
 // per kept cell: slot and the increments it has seen, the cell as "parked_<slot>"; per
 // checkpoint: slot and the increments it has seen, the cell as "checkpoint_<slot>"; per step of a live
-// cell's sample span, in order: slot, the state before it (σ, φ, Z, D), L (9, row-major), dt.
+// cell's sample span, in order: slot, the state before it (σ, φ, Z, D), L (9, row-major), dt. And
+// one row of what the learned samples' keys and answers were made with: p_ref, p_floor, d, ρ and
+// the sample span.
 constexpr std::size_t kStateColumns = 12;
 constexpr std::size_t kPointColumns = 1 + kStateColumns + 5;
 constexpr std::size_t kSampleColumns = surrogate::kFeatureCount + surrogate::kAnswerSize + 2;
 constexpr std::size_t kKeptColumns = 2;  // per kept cell (parked or checkpoint): slot, increments seen
 constexpr std::size_t kSpanColumns = 1 + kStateColumns + 9 + 1;
+constexpr std::size_t kKeyingColumns = 5;
 std::string cell_name(std::size_t slot) { return "cell_" + std::to_string(slot); }
 std::string parked_cell_name(std::size_t slot) { return "parked_" + std::to_string(slot); }
 std::string checkpoint_cell_name(std::size_t slot) { return "checkpoint_" + std::to_string(slot); }
@@ -33,6 +36,10 @@ void append_state(std::vector<double>& rows, const surrogate::PointState& state)
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) rows.push_back(state.stress(i, j));
   rows.insert(rows.end(), {state.solid_fraction, state.coordination, state.damage});
+}
+
+std::vector<double> keying(const surrogate::FeatureConstants& c, std::size_t sample_span) {
+  return {c.p_ref, c.p_floor, c.diameter, c.density, double(sample_span)};
 }
 
 surrogate::PointState state_from(const double* row) {
@@ -84,10 +91,25 @@ void SurrogateLaw::save_state(LawStateWriter& out) const {
   out.write_table("surrogate_parked", parked, kKeptColumns);
   out.write_table("surrogate_checkpoints", checkpoints, kKeptColumns);
   out.write_table("surrogate_span", span, kSpanColumns);
+  out.write_table("surrogate_keying", keying(index_->constants(), settings_.sample_span), kKeyingColumns);
 }
 
 void SurrogateLaw::restore_state(LawStateReader& in) {
   if (learned() > 0) throw std::logic_error("surrogate law: restore_state into a law that has already learned samples");
+  // The learned samples are keys and answers made with the run's constants and span: resumed with
+  // another pressure_floor or sample_span they would be keyed apart from the library's, silently.
+  // (A file written before the table was kept has none to compare.)
+  if (in.has_table("surrogate_keying")) {
+    const std::vector<double> saved = in.read_table("surrogate_keying", kKeyingColumns);
+    const std::vector<double> now = keying(index_->constants(), settings_.sample_span);
+    if (saved != now)
+      throw std::runtime_error(
+          "surrogate law: the restart's learned samples were made with p_ref " + std::to_string(saved.at(0)) +
+          " Pa, p_floor " + std::to_string(saved.at(1)) + " Pa and a sample_span of " + std::to_string(long(saved.at(4))) +
+          "; this scene gives p_ref " + std::to_string(now[0]) + " Pa, p_floor " + std::to_string(now[1]) +
+          " Pa and " + std::to_string(long(now[4])) +
+          ": resume with the library, pressure_floor and sample_span the run started with");
+  }
   for (Point& p : points_) p.history.clear();
   const std::vector<double> history = in.read_table("replay_history", kHistoryColumns);
   for (const auto& [slot, increment] : history_rows(history)) points_.at(slot).history.push_back(increment);

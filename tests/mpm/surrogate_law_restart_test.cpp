@@ -92,6 +92,39 @@ TEST(SurrogateLaw, ARestartContinuesBitForBit) {
   }
 }
 
+// A restart's learned samples are keys and answers made with its run's constants and sample span; a
+// scene that would key them otherwise (another pressure_floor or sample_span) is refused, naming both.
+TEST(SurrogateLaw, ARestartIsRefusedUnderAnotherFloorOrSpan) {
+  const SurrogateLawSettings s = settings(kNoLimit);
+  Solver first = one_point_solver(s);
+  Driver d;
+  for (int k = 0; k < 3; ++k) d(law_of(first), off_library_motion().front(), kDt);
+  const std::filesystem::path file = shared().dir.path() / "restart_keying.h5";
+  io::write_restart(file, first);
+  const auto refused = [&](Solver& resumed, const char* named) {
+    try {
+      io::read_restart(file, resumed);
+      ADD_FAILURE() << "resumed under another " << named;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("resume with"), std::string::npos) << e.what();
+    }
+  };
+  SurrogateLawSettings wider = s;
+  wider.sample_span = 2;
+  Solver spanned = one_point_solver(wider);
+  refused(spanned, "sample_span");
+  surrogate::Dataset floored = shared().dataset;
+  floored.constants.p_floor = floored.constants.p_ref;
+  Solver at_preparation(Grid(Vec2(0, 0), 0.1, 6, 6), SolverSettings{});
+  at_preparation.add_law(std::make_unique<SurrogateLaw>(*shared().cell, floored, s, shared().snapshots));
+  at_preparation.add_point(0, Vec2(0.3, 0.3), 0.0025, 0.025, Vec2::Zero());
+  refused(at_preparation, "p_floor");
+  Solver same = one_point_solver(s);
+  EXPECT_NO_THROW(io::read_restart(file, same));
+  EXPECT_EQ(law_of(same).learned(), law_of(first).learned());
+}
+
 std::filesystem::path write_scene(const std::string& material_extra, const std::string& fallback_extra = "") {
   const std::filesystem::path file = shared().dir.path() / "scene.json";
   std::ofstream(file) << R"({
