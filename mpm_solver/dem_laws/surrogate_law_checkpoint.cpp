@@ -2,6 +2,7 @@
 // continues bit for bit (the promise in surrogate_law.hpp).
 #include <algorithm>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -40,6 +41,12 @@ void append_state(std::vector<double>& rows, const surrogate::PointState& state)
 
 std::vector<double> keying(const surrogate::FeatureConstants& c, std::size_t sample_span) {
   return {c.p_ref, c.p_floor, c.diameter, c.density, double(sample_span)};
+}
+
+std::string describe_keying(const std::vector<double>& k) {
+  std::ostringstream s;
+  s << "p_ref " << k.at(0) << " Pa, p_floor " << k.at(1) << " Pa, sample_span " << k.at(4);
+  return s.str();
 }
 
 surrogate::PointState state_from(const double* row) {
@@ -103,12 +110,9 @@ void SurrogateLaw::restore_state(LawStateReader& in) {
     const std::vector<double> saved = in.read_table("surrogate_keying", kKeyingColumns);
     const std::vector<double> now = keying(index_->constants(), settings_.sample_span);
     if (saved != now)
-      throw std::runtime_error(
-          "surrogate law: the restart's learned samples were made with p_ref " + std::to_string(saved.at(0)) +
-          " Pa, p_floor " + std::to_string(saved.at(1)) + " Pa and a sample_span of " + std::to_string(long(saved.at(4))) +
-          "; this scene gives p_ref " + std::to_string(now[0]) + " Pa, p_floor " + std::to_string(now[1]) +
-          " Pa and " + std::to_string(long(now[4])) +
-          ": resume with the library, pressure_floor and sample_span the run started with");
+      throw std::runtime_error("surrogate law: the restart's learned samples were made with " + describe_keying(saved) +
+                               "; this scene gives " + describe_keying(now) +
+                               ": resume with the library, pressure_floor and sample_span the run started with");
   }
   for (Point& p : points_) p.history.clear();
   const std::vector<double> history = in.read_table("replay_history", kHistoryColumns);

@@ -41,16 +41,25 @@ def stress_error(snapshot, reference):
     return flow.stress_error_nearest(snapshot, reference)
 
 
+def last_shared_row(series, reference, ours, theirs):
+    """(t, ours[k], theirs[j]) at the last time both series have a row (times to 1e-9 s), or None."""
+    ref = dict(zip(np.round(reference["t"], 9), theirs))
+    common = [(t, value) for t, value in zip(np.round(series["t"], 9), ours) if t in ref]
+    if not common:
+        return None
+    t, value = common[-1]
+    return t, value, ref[t]
+
+
 def final_runout_change(series, reference, min_runout=0.01):
     """(runout − reference runout) / reference runout at the last row they share, signed (negative:
     the run falls short); None when the reference runout is below `min_runout` [m] there (a ratio of
     noise over a tiny number)."""
-    ref = dict(zip(np.round(reference["t"], 9), flow.runout(reference)))
-    common = [(t, r) for t, r in zip(np.round(series["t"], 9), flow.runout(series)) if t in ref]
-    if not common or ref[common[-1][0]] < min_runout:
+    row = last_shared_row(series, reference, flow.runout(series), flow.runout(reference))
+    if row is None or row[2] < min_runout:
         return None
-    t, r = common[-1]
-    return float((r - ref[t]) / ref[t])
+    _, runout, ref_runout = row
+    return float((runout - ref_runout) / ref_runout)
 
 
 def final_kinetic_energy_change(series, reference, min_share_of_peak=0.01):
@@ -58,16 +67,15 @@ def final_kinetic_energy_change(series, reference, min_share_of_peak=0.01):
     run moves more); None when the reference's kinetic energy there is below `min_share_of_peak` of its
     peak up to then (a column at rest: a ratio of noise over a tiny number). The inertial measure of a
     flow: its bulk may move faster or slower while its front, set by a few points, keeps its place."""
-    ref_t, ref_energy = np.round(reference["t"], 9), np.asarray(reference["kinetic_energy"], dtype=float)
-    ref = dict(zip(ref_t, ref_energy))
-    common = [(t, e) for t, e in zip(np.round(series["t"], 9), series["kinetic_energy"]) if t in ref]
-    if not common:
+    ref_energy = np.asarray(reference["kinetic_energy"], dtype=float)
+    row = last_shared_row(series, reference, series["kinetic_energy"], ref_energy)
+    if row is None:
         return None
-    t, energy = common[-1]
-    peak = ref_energy[ref_t <= t].max()
-    if not ref[t] > 0 or ref[t] < min_share_of_peak * peak:
+    t, energy, ref_at_t = row
+    peak = ref_energy[np.round(reference["t"], 9) <= t].max()
+    if not ref_at_t > 0 or ref_at_t < min_share_of_peak * peak:
         return None
-    return float((energy - ref[t]) / ref[t])
+    return float((energy - ref_at_t) / ref_at_t)
 
 
 def final_runout_error(series, reference, min_runout=0.01):
