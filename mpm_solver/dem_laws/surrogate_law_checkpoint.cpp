@@ -45,7 +45,8 @@ std::vector<double> keying(const surrogate::FeatureConstants& c, std::size_t sam
 
 std::string describe_keying(const std::vector<double>& k) {
   std::ostringstream s;
-  s << "p_ref " << k.at(0) << " Pa, p_floor " << k.at(1) << " Pa, sample_span " << k.at(4);
+  s << "p_ref " << k.at(0) << " Pa, p_floor " << k.at(1) << " Pa, d " << k.at(2) << " m, rho " << k.at(3)
+    << " kg/m^3, sample_span " << k.at(4);
   return s.str();
 }
 
