@@ -23,6 +23,8 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
     throw std::invalid_argument("fallback.servo_inertial_number: expected a positive number");
   if (settings_.catch_up_steps < 1) throw std::invalid_argument("fallback.catch_up_steps: expected at least 1");
   if (settings_.catch_up_legs < 1) throw std::invalid_argument("fallback.catch_up_legs: expected at least 1");
+  if (!(settings_.catch_up_strain_per_step >= 0))
+    throw std::invalid_argument("fallback.catch_up_strain_per_step: expected a strain ≥ 0 (0: no limit)");
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
@@ -88,7 +90,13 @@ void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncre
   const dem::Substepping& q = model.settings().substepping;
   const double dt = cell.time_step(q.q_t);
   const std::size_t legs = std::min(motion.size(), static_cast<std::size_t>(settings_.catch_up_legs));
-  const double speed_up = std::max(1.0, elapsed / (static_cast<double>(settings_.catch_up_steps) * dt));
+  double steps = static_cast<double>(settings_.catch_up_steps);
+  if (settings_.catch_up_strain_per_step > 0) {
+    double strain_path = 0;
+    for (const KinematicIncrement& increment : motion) strain_path += increment.strain().norm();
+    steps = std::max(steps, strain_path / settings_.catch_up_strain_per_step);
+  }
+  const double speed_up = std::max(1.0, elapsed / (steps * dt));
   const auto drive = [&](const KinematicIncrement& increment) {
     model.advance(cell, increment, counters);
     counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(increment.dt, dt, q.q_n));

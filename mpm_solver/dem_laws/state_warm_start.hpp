@@ -38,6 +38,12 @@
 //   follow go live (stop 51: at most 50 steps sent 18 % of the demo column's point-steps live, 200
 //   steps 12 %). A leg with no principal logarithm (a rotation by π) is replayed increment by
 //   increment at its own pace.
+// - With catch_up_strain_per_step = ε > 0, a catch-up also takes at least Σ|dε|/ε DEM steps (its
+//   motion's strain path, Σ ‖sym L‖ Δt, over ε; never more than the motion's own pace): a long
+//   motion is not driven faster than ε per DEM step. Why: bonds break in a fast drive that the same
+//   motion at its own pace leaves intact (stop 57), and over a flow of 0.3 s the excess damage of
+//   the points whose cells were caught up fast leaves the column's bulk without stress
+//   (docs/surrogate.md, "Stop 69").
 // - A point without a cell of its own starts, with first_cell "template", from the template caught
 //   up on the point's whole motion (every point starts in the template's state), as if the template
 //   had been its own cell from the start: no servo, and no stress the surrogate integrated enters
@@ -74,6 +80,7 @@ struct StateWarmStartSettings {
   bool replay_unconverged = false;     // an unconverged servo: replay the point's history instead
   long catch_up_steps = 200;            // DEM steps of a catch-up at most (above)
   long catch_up_legs = 40;              // legs of a catch-up's path at most (above)
+  double catch_up_strain_per_step = 0;  // > 0: a catch-up's strain per DEM step at most (above); 0: no limit
   // A point's first cell: the template caught up on its motion, or the nearest snapshot, servoed.
   enum class FirstCell { template_caught_up, nearest_snapshot };
   FirstCell first_cell = FirstCell::template_caught_up;

@@ -25,7 +25,8 @@ using common::Range;
 // probes the length-scale fit uses, length_scales.hpp), "pressure_floor" (p_floor / p_ref, reindex.hpp),
 // "fallback":
 // {"return_after", "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance],
-// "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs", "first_cell":
+// "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs",
+// "catch_up_strain_per_step", "first_cell":
 // "template" | "snapshot", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and
 // "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
@@ -45,7 +46,8 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
       material.number_or("pressure_floor", surrogate::kPressureFloor, common::Range::between(0, 1, true, false));
   if (const auto fallback = material.find("fallback")) {
     fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
-                          "catch_up_steps", "catch_up_legs", "first_cell", "unconverged"});
+                          "catch_up_steps", "catch_up_legs", "catch_up_strain_per_step", "first_cell",
+                          "unconverged"});
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
     if (const auto mode = fallback->find("warm_start")) {
       const std::string name = mode->string();
@@ -58,6 +60,8 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
     w.servo_inertial_number = fallback->number_or("servo_inertial_number", w.servo_inertial_number, Range::positive());
     w.catch_up_steps = fallback->integer_or("catch_up_steps", w.catch_up_steps, 1, 1000000000);
     w.catch_up_legs = fallback->integer_or("catch_up_legs", w.catch_up_legs, 1, 1000000000);
+    w.catch_up_strain_per_step =
+        fallback->number_or("catch_up_strain_per_step", w.catch_up_strain_per_step, Range::at_least(0));
     if (const auto first = fallback->find("first_cell")) {
       const std::string name = first->string();
       if (name != "template" && name != "snapshot") first->fail("expected \"template\" or \"snapshot\"");

@@ -177,6 +177,7 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
   }
   const std::pair<const char*, const char*> refused[] = {{R"(, "catch_up_steps": 0)", "/fallback/catch_up_steps"},
                                                           {R"(, "catch_up_legs": 0)", "/fallback/catch_up_legs"},
+                                                          {R"(, "catch_up_strain_per_step": -1e-5)", "/fallback/catch_up_strain_per_step"},
                                                           {R"(, "first_cell": "nearest")", "/fallback/first_cell"}};
   for (const auto& [fallback, named] : refused) {
     try {

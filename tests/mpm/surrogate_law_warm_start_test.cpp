@@ -214,6 +214,44 @@ TEST(SurrogateLaw, APointThatWasLiveStartsFromItsOwnCellCaughtUpOnItsMotion) {
   EXPECT_LE(off, 0.25 * added);
 }
 
+// A catch-up limited in strain per DEM step takes the steps its strain path needs at that limit (but
+// never more than the motion's own pace), and at the limit of the motion's own pace it is the replay
+// itself: the limit trades the catch-up's speed for the cell the motion would have made.
+TEST(SurrogateLaw, ACatchUpLimitedInStrainPerStepTakesTheStepsItsStrainPathNeeds) {
+  auto law = surrogate_law(settings(200));
+  const LiveCellModel model(*shared().cell, LiveDemSettings{});
+  CouplingCounters counters;
+  const dem::DemCell kept = model.new_cell();
+  const Mat2 L{{0.5, 2.0}, {0.0, -0.5}};
+  const std::vector<KinematicIncrement> motion(30, KinematicIncrement::of_velocity_gradient(L, kDt));
+  dem::DemCell replayed = kept;
+  for (const KinematicIncrement& increment : motion) model.advance(replayed, increment, counters);
+  const double own_pace = 30 * kDt / kept.time_step(LiveDemSettings{}.substepping.q_t);
+  double strain_path = 0;
+  for (const KinematicIncrement& increment : motion) strain_path += increment.strain().norm();
+  const auto sym = [](const dem::Mat3& m) { return dem::Mat3(0.5 * (m + m.transpose())); };
+  const double added = (sym(replayed.stress()) - sym(kept.stress())).norm();
+  ASSERT_GT(added, 0.0);
+  const surrogate::PointState state{kept.stress(), 0, 0, 0};
+  StateWarmStartSettings w;
+  w.stress_tolerance = 200;
+  ASSERT_GT(0.5 * own_pace, 2.0 * static_cast<double>(w.catch_up_steps)) << "the limits below must bind";
+  for (const double share_of_own_pace : {0.5, 1.0, 2.0}) {
+    w.catch_up_strain_per_step = strain_path / (share_of_own_pace * own_pace);
+    const StateWarmStart warm(shared().snapshots, law->index().constants(), law->index().scales(), w);
+    const WarmStartOutcome caught = warm.start(state, model, OwnCell{kept, motion});
+    const double steps = static_cast<double>(caught.catch_up.warm_start_catch_up_steps);
+    const double off = (sym(caught.cell.stress()) - sym(replayed.stress())).norm();
+    std::printf("limited to %.2e per DEM step: %.0f steps (the motion's own pace: %.0f), %.3g Pa from the replay\n",
+                w.catch_up_strain_per_step, steps, own_pace, off);
+    const double expected = std::min(share_of_own_pace, 1.0) * own_pace;
+    EXPECT_GE(steps, expected * (1 - 1e-9)) << share_of_own_pace;
+    EXPECT_LE(steps, expected + static_cast<double>(w.catch_up_legs) + 1) << share_of_own_pace;
+    EXPECT_LT((caught.cell.deformation_gradient() - replayed.deformation_gradient()).norm(), 1e-12);
+    if (share_of_own_pace >= 1) EXPECT_LE(off, 1e-9 * added) << "at its own pace the catch-up is the replay";
+  }
+}
+
 // A small shear out and back (3e-3, as a standing column rings) ends where it began (the motion's F is
 // the identity), but a frictional packing does not: its contacts slip on the way. Caught up leg by
 // leg, the kept cell ends near the same cell replayed at the motion's own pace; caught up in one leg,
