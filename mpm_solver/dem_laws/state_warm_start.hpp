@@ -109,6 +109,7 @@ class StateWarmStart {
   StateWarmStart(std::vector<StateSnapshot> snapshots, const surrogate::FeatureConstants& constants,
                  const surrogate::LengthScales& scales, const StateWarmStartSettings& settings);
 
+  const StateWarmStartSettings& settings() const { return settings_; }
   std::size_t size() const { return snapshots_.size(); }
   const StateSnapshot& snapshot(std::size_t i) const { return snapshots_[i]; }
   std::size_t nearest(const surrogate::PointState& state) const;

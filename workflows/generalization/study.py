@@ -19,7 +19,9 @@ seed: the noise floor), `live_perturbed` (the reference with gravity changed in 
 its own trajectory moves under a change in the last bits, the part of every error that no law, however
 exact, could avoid), `hybrid` (the total-strain key: tolerance 10, warm start, back after 5) and
 `surrogate` (the state key, its material keys from `--surrogate`, default surrogate.json beside this
-script, the demo's setting; surrogate_fast.json is the faster one of stop 55; `--tolerance` replaces
+script, the demo's setting; surrogate_fast.json is the faster one of stop 55, surrogate_long.json that one
+with samples of one record and catch-ups of at most 1e-5 of strain per DEM step (stop 69: for flows run
+to 0.3 s); `--tolerance` replaces
 its tolerance) and `surrogate_budget` (the same with an `error_budget` of `--error-budget`,
 default 300 Pa: a point whose estimated errors summed since its last live spell or re-anchoring
 would pass it is re-anchored), and `surrogate_budget_seed`: surrogate_budget on the other packing's
