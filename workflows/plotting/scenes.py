@@ -36,9 +36,11 @@ def lookup(**keys):
 
 
 def hybrid(start="warm_start", return_after=10, **lookup_keys):
-    """The total-strain key; a base scene's surrogate servo tolerance, which the hybrid fallback does not
-    take, is removed (null)."""
-    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None},
+    """The total-strain key; a base scene's surrogate servo tolerance and catch-up limit, which the hybrid
+    fallback does not take, are removed (null)."""
+    return {**lookup(**lookup_keys),
+            "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None,
+                         "catch_up_strain_per_step": None},
             "enrich": False}
 
 
