@@ -84,18 +84,17 @@ WarmStartOutcome StateWarmStart::start(const surrogate::PointState& state, const
 
 void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncrement> motion,
                               const LiveCellModel& model, CouplingCounters& counters) const {
-  double elapsed = 0;
-  for (const KinematicIncrement& increment : motion) elapsed += increment.dt;
+  double elapsed = 0, strain_path = 0;
+  for (const KinematicIncrement& increment : motion) {
+    elapsed += increment.dt;
+    strain_path += increment.strain().norm();
+  }
   if (!(elapsed > 0)) return;
   const dem::Substepping& q = model.settings().substepping;
   const double dt = cell.time_step(q.q_t);
   const std::size_t legs = std::min(motion.size(), static_cast<std::size_t>(settings_.catch_up_legs));
   double steps = static_cast<double>(settings_.catch_up_steps);
-  if (settings_.catch_up_strain_per_step > 0) {
-    double strain_path = 0;
-    for (const KinematicIncrement& increment : motion) strain_path += increment.strain().norm();
-    steps = std::max(steps, strain_path / settings_.catch_up_strain_per_step);
-  }
+  if (settings_.catch_up_strain_per_step > 0) steps = std::max(steps, strain_path / settings_.catch_up_strain_per_step);
   const double speed_up = std::max(1.0, elapsed / (steps * dt));
   const auto drive = [&](const KinematicIncrement& increment) {
     model.advance(cell, increment, counters);
