@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -31,16 +32,23 @@ void make_absolute(nlohmann::json& material, const char* key, const std::filesys
 }
 
 // Keys of the material's old law that the new one does not take (a `lookup` block on a live
-// material) would be refused by the loader. A cache/hybrid material may name its cell next to its
-// library (a check of the material); a live one takes one source, the library's template.
-bool takes_key(const LawKind& kind, std::string_view key) {
-  return std::find(kind.keys.begin(), kind.keys.end(), key) != kind.keys.end();
+// material, a surrogate's `fallback.stress_tolerance` on a hybrid one) would be refused by the
+// loader. A cache/hybrid material may name its cell next to its library (a check of the material); a
+// live one takes one source, the library's template.
+bool contains(std::span<const std::string_view> keys, std::string_view key) {
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
 }
 
 void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
   const LawKind kind = *find_law_kind(law);
   for (auto it = material.begin(); it != material.end();)
-    it = takes_key(kind, it.key()) ? std::next(it) : material.erase(it);
+    it = contains(kind.keys, it.key()) ? std::next(it) : material.erase(it);
+  for (const KeyBlock& block : kind.blocks) {
+    const auto node = material.find(block.name);
+    if (node == material.end() || !node->is_object()) continue;
+    for (auto it = node->begin(); it != node->end();)
+      it = contains(block.keys, it.key()) ? std::next(it) : node->erase(it);
+  }
   if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
@@ -56,19 +64,29 @@ void merge_material(nlohmann::json& material, const nlohmann::json& patch) {
 }
 
 // A merge patch may add a key the material's law does not take; the loader would refuse it only when
-// the scene is run, so the rewritten scene is refused here, naming the key. Keys nested in a block
-// (a fallback's) are checked by the law's reader when the scene is loaded.
+// the scene is run, so the rewritten scene is refused here, naming the key (a block's as
+// "fallback.stress_tolerance").
+void require_keys_in(const nlohmann::json& object, std::span<const std::string_view> keys, const std::string& prefix,
+                     const std::string& law) {
+  for (const auto& [key, value] : object.items())
+    if (!contains(keys, key)) {
+      std::string expected;
+      for (std::string_view k : keys) expected.append(expected.empty() ? "" : ", ").append(k);
+      throw common::InputError("--material: key \"" + prefix + key + "\" is not a key of law \"" + law +
+                               "\" (expected one of " + expected + ")");
+    }
+}
+
 void require_keys_of_its_law(const nlohmann::json& material) {
   const std::string law = material.value("law", "");
   const std::optional<LawKind> kind = find_law_kind(law);
   if (!kind) return;  // the loader names an unknown law
-  for (const auto& [key, value] : material.items())
-    if (!takes_key(*kind, key)) {
-      std::string keys;
-      for (std::string_view k : kind->keys) keys.append(keys.empty() ? "" : ", ").append(k);
-      throw common::InputError("--material: key \"" + key + "\" is not a key of law \"" + law + "\" (expected one of " +
-                               keys + ")");
-    }
+  require_keys_in(material, kind->keys, "", law);
+  for (const KeyBlock& block : kind->blocks) {
+    const auto node = material.find(block.name);
+    if (node != material.end() && node->is_object())
+      require_keys_in(*node, block.keys, std::string(block.name) + ".", law);
+  }
 }
 
 // The flags that act on the DEM-backed materials, as the user typed them ("--law/--material").

@@ -20,13 +20,17 @@ constexpr std::string_view kCacheKeys[] = {"name", "law", "library", "template",
 constexpr std::string_view kHybridKeys[] = {"name",   "law",         "library", "template", "cell",
                                             "lookup", "substepping", "q_h", "retiling", "fallback", "enrich",
                                             "snapshot_interval", "snapshot_budget"};
+constexpr std::string_view kLookupKeys[] = {"k", "tolerance", "scales"};
+constexpr std::string_view kHybridFallbackKeys[] = {"start", "max_drive_strain", "return_after"};
+constexpr KeyBlock kCacheBlocks[] = {{"lookup", kLookupKeys}};
+constexpr KeyBlock kHybridBlocks[] = {{"lookup", kLookupKeys}, {"fallback", kHybridFallbackKeys}};
 
 // "lookup": {"k", "tolerance", "scales": {"strain", "rate", "damage"}}; the scales replace the
 // library's key scales for this run: what "a different state" means here.
 std::optional<db::KeyScales> read_lookup(const JsonNode& material, lookup::LookupOptions& options) {
   const auto node = material.find("lookup");
   if (!node) return std::nullopt;
-  node->allow_only({"k", "tolerance", "scales"});
+  node->allow_only(kLookupKeys);
   options.k = static_cast<std::size_t>(node->integer_or("k", static_cast<std::int64_t>(options.k), 1, 1000));
   options.tolerance = node->number_or("tolerance", options.tolerance, Range::at_least(0));
   const auto scales = node->find("scales");
@@ -41,7 +45,7 @@ std::optional<db::KeyScales> read_lookup(const JsonNode& material, lookup::Looku
 void read_fallback(const JsonNode& material, LibraryLawSettings& s) {
   s.fallback = Fallback::warm_start;
   if (const auto fb = material.find("fallback")) {
-    fb->allow_only({"start", "max_drive_strain", "return_after"});
+    fb->allow_only(kHybridFallbackKeys);
     if (const auto start = fb->find("start")) {
       const std::string kind = start->string();
       if (kind == "replay") s.fallback = Fallback::replay;
@@ -82,8 +86,8 @@ std::unique_ptr<ConstitutiveLaw> read_hybrid(const JsonNode& material, const Law
   return read(material, scene, true);
 }
 
-const LawRegistration cache{{"cache", kCacheKeys, true, &read_cache, true}};
-const LawRegistration hybrid{{"hybrid", kHybridKeys, true, &read_hybrid, true}};
+const LawRegistration cache{{"cache", kCacheKeys, true, &read_cache, true, kCacheBlocks}};
+const LawRegistration hybrid{{"hybrid", kHybridKeys, true, &read_hybrid, true, kHybridBlocks}};
 
 }  // namespace
 

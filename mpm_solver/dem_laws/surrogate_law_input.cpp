@@ -32,6 +32,11 @@ using common::Range;
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
                                       "error_budget", "k",  "sample_span", "fit_seed", "pressure_floor",
                                       "substepping", "q_h", "retiling", "fallback"};
+constexpr std::string_view kFallbackKeys[] = {"return_after",   "warm_start",    "stress_tolerance",
+                                              "max_servo_steps", "servo_inertial_number", "catch_up_steps",
+                                              "catch_up_legs",  "catch_up_strain_per_step", "first_cell",
+                                              "unconverged"};
+constexpr KeyBlock kBlocks[] = {{"fallback", kFallbackKeys}};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
   SurrogateLawSettings s;
@@ -45,9 +50,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
   const double pressure_floor =
       material.number_or("pressure_floor", surrogate::kPressureFloor, common::Range::between(0, 1, true, false));
   if (const auto fallback = material.find("fallback")) {
-    fallback->allow_only({"return_after", "warm_start", "stress_tolerance", "max_servo_steps", "servo_inertial_number",
-                          "catch_up_steps", "catch_up_legs", "catch_up_strain_per_step", "first_cell",
-                          "unconverged"});
+    fallback->allow_only(kFallbackKeys);
     s.return_after = static_cast<int>(fallback->integer_or("return_after", s.return_after, 0, 1000000000));
     if (const auto mode = fallback->find("warm_start")) {
       const std::string name = mode->string();
@@ -95,7 +98,7 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
                          [&] { return std::make_unique<SurrogateLaw>(link->template_cell(), std::move(dataset), s, std::move(snapshots)); });
 }
 
-const LawRegistration registration{{"surrogate", kKeys, true, &read}};
+const LawRegistration registration{{"surrogate", kKeys, true, &read, false, kBlocks}};
 
 }  // namespace
 

@@ -1,11 +1,12 @@
 // The constitutive laws a scene can name, each registered by the file that defines it (the way
 // LAMMPS styles register): a law file ends with
-//   const LawRegistration registration{{"name", keys, dem_backed, &read, runs_on_ranks}};
+//   const LawRegistration registration{{"name", keys, dem_backed, &read, runs_on_ranks, blocks}};
 // and nothing else in the tree lists laws. The scene reader, `mpm_solver laws` and the scene
 // overrides ask this registry.
 //
 // Promise: every registered name is unique (a second registration of a name throws at start-up);
-// a law's reader accepts exactly its published keys (its JSON object is checked with allow_only).
+// a law's reader accepts exactly its published keys (its JSON object is checked with allow_only), and
+// in its published blocks exactly their keys.
 #pragma once
 #include <filesystem>
 #include <memory>
@@ -35,6 +36,13 @@ struct LawContext {
 
 using LawReader = std::unique_ptr<ConstitutiveLaw> (*)(const common::JsonNode& material, const LawContext& scene);
 
+// A block of a material object whose keys depend on the law (a "fallback" is the hybrid's live
+// fallback or the surrogate's warm start), and every key it may have.
+struct KeyBlock {
+  std::string_view name;
+  std::span<const std::string_view> keys;
+};
+
 struct LawKind {
   std::string_view name;                  // the value of the material's "law" key
   std::span<const std::string_view> keys;  // every key its material object may have, "name" and "law" included
@@ -44,6 +52,7 @@ struct LawKind {
   // a scene on several ranks refuses any other before building it (building may take a library's
   // writer lock, which only one rank would get).
   bool runs_on_ranks = false;
+  std::span<const KeyBlock> blocks = {};  // its blocks whose keys are its own; its reader accepts exactly these
 };
 
 // All registered kinds, sorted by name.

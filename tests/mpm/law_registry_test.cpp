@@ -117,6 +117,10 @@ TEST(LawRegistry, ALawAcceptsExactlyTheKeysItPublishes) {
   EXPECT_FALSE(catalogue["laws"]["test_viscous_fluid"]["dem_backed"].get<bool>());
   for (const char* law : {"elastic", "drucker_prager", "live", "cache", "hybrid"})
     EXPECT_TRUE(catalogue["laws"].contains(law)) << law << " is not registered";
+  // A block whose keys depend on the law is published with them.
+  EXPECT_EQ(catalogue["laws"]["test_viscous_fluid"]["blocks"], nlohmann::json::object());
+  EXPECT_EQ(catalogue["laws"]["hybrid"]["blocks"]["fallback"],
+            nlohmann::json::array({"start", "max_drive_strain", "return_after"}));
 }
 
 TEST(LawRegistry, ANameIsRegisteredOnce) {

@@ -73,6 +73,22 @@ TEST(SceneOverrides, LawDropsTheKeysTheNewLawDoesNotTake) {
   EXPECT_EQ(cache["materials"][2]["cell"], "/scenes/cells/firn.json");
 }
 
+// A block both laws take (a fallback) keeps only the keys the new law takes in it.
+TEST(SceneOverrides, LawDropsTheKeysOfABlockTheNewLawDoesNotTake) {
+  nlohmann::json scene = kScene;
+  scene["materials"][2] = nlohmann::json::parse(R"({"name": "firn", "law": "surrogate", "library": "lib",
+      "template": 2, "tolerance": 50, "fallback": {"return_after": 5, "warm_start": "state",
+      "stress_tolerance": 100, "catch_up_strain_per_step": 1e-5}})");
+  const nlohmann::json hybrid = apply_overrides(scene, "/scenes", overrides("hybrid", std::nullopt));
+  EXPECT_EQ(hybrid["materials"][2]["fallback"], nlohmann::json::parse(R"({"return_after": 5})"));
+  EXPECT_FALSE(hybrid["materials"][2].contains("tolerance"));
+  // And back: the hybrid's fallback start is not the surrogate's.
+  nlohmann::json started = hybrid;
+  started["materials"][2]["fallback"]["start"] = "replay";
+  const nlohmann::json back = apply_overrides(started, "/scenes", overrides("surrogate", std::nullopt));
+  EXPECT_EQ(back["materials"][2]["fallback"], nlohmann::json::parse(R"({"return_after": 5})"));
+}
+
 TEST(SceneOverrides, LibraryReplacesTheCellSourceOfDemBackedMaterials) {
   const nlohmann::json out = apply_overrides(kScene, "/scenes", overrides(std::nullopt, "/data/LIB"));
   EXPECT_EQ(out["materials"][0], kScene["materials"][0]);
@@ -124,6 +140,16 @@ TEST(SceneOverrides, MaterialPatchWithAKeyItsLawDoesNotTakeIsRefused) {
   // The surrogate takes it.
   EXPECT_NO_THROW(apply_overrides(kScene, "/scenes",
                                   overrides("surrogate", std::nullopt, parse_material_patch(R"({"error_budget": 300})"))));
+  // A key of a block is checked against the block's keys of the law, and named with its block.
+  const std::string nested = error_of(
+      kScene, overrides("surrogate", std::nullopt, parse_material_patch(R"({"fallback": {"start": "replay"}})")));
+  EXPECT_EQ(nested.rfind("--material: key \"fallback.start\" is not a key of law \"surrogate\" (expected one of "
+                         "return_after, warm_start, ",
+                         0),
+            0u)
+      << nested;
+  EXPECT_NO_THROW(apply_overrides(
+      kScene, "/scenes", overrides("hybrid", std::nullopt, parse_material_patch(R"({"fallback": {"start": "replay"}})"))));
 }
 
 TEST(SceneOverrides, MaterialPatchWithACellReplacesTheLibrary) {

@@ -69,8 +69,10 @@ class GeneralizationTest(WorkflowTest):
             self.assertEqual(r["failed"], "", name)
             self.assertTrue(math.isfinite(r["cpu_s"]) and r["cpu_s"] > 0, name)
             self.assertTrue(0 <= r["live_fraction"] <= 1, name)
+            self.assertTrue(0 <= r["catch_up_share"] <= 1, name)
             self.assertTrue(math.isfinite(r["stress_rel_l2"]), name)
         self.assertEqual(scene["runs"]["live"]["live_fraction"], 1.0)
+        self.assertEqual(scene["runs"]["live"]["catch_up_share"], 0.0)  # a live cell never catches up
         self.assertLess(scene["runs"]["surrogate"]["live_fraction"], 1.0)
         # Another packing seed is another run: its stress field differs from the reference's.
         self.assertGreater(scene["runs"]["live_seed"]["stress_rel_l2"], 0.0)

@@ -35,7 +35,8 @@ by up to 4 % (stop 47); the fit is one draw of scales the library leaves undeter
 of probes moved a flowing column's CPU by 1.5× and its runout by 7 % (stop 63). One draw does not tell
 the surrogate's bias from its scatter.
 Per run: CPU seconds (of the child process, not wall) and their ratio to live, the share of
-point-steps that ran live, and the errors against live of plotting/run_compare.py (worst front error,
+point-steps that ran live, the share of its stepping time spent catching cells up on their points'
+motion (catch_up_share), and the errors against live of plotting/run_compare.py (worst front error,
 final runout, stress field, deposit profile).
 Writes OUT/summary.json (per scene: surrogate_budget's cpu_ratio_to_live and live_fraction, its
 runout_rel_error as |the mean over its draws of (runout − live's) / live's| (each draw's signed change
@@ -144,12 +145,11 @@ def run_scene(name, settings, libs, surrogate, build, args):
     gravity_factors = {"live_perturbed": 1 + scenes.GRAVITY_PERTURBATION, **draws}
     law, library, material = specs["surrogate_budget"]
     specs.update({run: (law, library, scenes.drawn_material(material, k)) for k, run in enumerate(draws, start=1)})
-    # The scene with live cells and no key of any other law, so that each run's keys are its own
-    # (a merge would keep, e.g., the base's fallback keys of another law).
+    # The scene with live cells and no key of any other law, so that each run's keys are its own.
     folder = args.out / "scenes"
     folder.mkdir(parents=True, exist_ok=True)
     bare = folder / f"{name}.json"
-    scenes.variant(build, args.scene, bare, "live", None, {"fallback": None}, settings)
+    scenes.variant(build, args.scene, bare, "live", None, None, settings)
     costs = {}
     for run in specs:
         law, library, material = specs[run]
@@ -169,6 +169,17 @@ def live_fraction(folder, law):
     return sum(law["live_point_steps"] for law in coupling["laws"]) / coupling["point_steps"]
 
 
+def catch_up_share(folder, threads):
+    """The share of a run's stepping time its cells spent catching up on their points' motion: what
+    keeping each point's cell in step with its motion costs, beside its live steps. The catch-ups'
+    time (warm_start_seconds) is summed over the points, so it is measured against the stepping wall
+    time of all `threads`."""
+    summary = json.loads((folder / "summary.json").read_text())
+    caught_up = sum(law.get("warm_start_seconds", 0.0) for law in summary["coupling"]["laws"])
+    stepping = summary["wall_time"]["steps"] * threads
+    return caught_up / stepping if stepping > 0 else 0.0
+
+
 def measure(name, costs, args):
     runs = {}
     for run in costs:
@@ -176,6 +187,7 @@ def measure(name, costs, args):
         runs[run] = {"reference": reference.name, "cpu_s": costs[run]["cpu_s"],
                      "cpu_ratio_to_live": costs[run]["cpu_s"] / costs[reference.name]["cpu_s"],
                      "live_fraction": live_fraction(folder, "live" if run.startswith("live") else run),
+                     "catch_up_share": catch_up_share(folder, args.threads),
                      **run_compare.errors(folder, reference), "failed": costs[run]["failed"]}
     s = runs["surrogate_budget"]  # the demo's setting, the one that lets no column stand that falls live
     draws = [run_compare.final_runout_change(*(tables.read_csv(args.out / "runs" / name / r / "series.csv")

@@ -36,20 +36,15 @@ def lookup(**keys):
 
 
 def hybrid(start="warm_start", return_after=10, **lookup_keys):
-    """The total-strain key; a base scene's surrogate servo tolerance and catch-up limit, which the hybrid
-    fallback does not take, are removed (null)."""
-    return {**lookup(**lookup_keys),
-            "fallback": {"start": start, "return_after": return_after, "stress_tolerance": None,
-                         "catch_up_strain_per_step": None},
-            "enrich": False}
+    """The total-strain key, with a live fallback (`mpm_solver scene --law hybrid` drops a base
+    surrogate's fallback keys that the hybrid does not take)."""
+    return {**lookup(**lookup_keys), "fallback": {"start": start, "return_after": return_after}, "enrich": False}
 
 
 def surrogate(tolerance_pa=50.0, return_after=5, error_budget_pa=None):
     """The state-keyed surrogate, back after 5 steps within its tolerance as in the demo; a base scene's
-    hybrid fallback start, which the surrogate does not take, is removed (null), and so is the base's
-    error budget unless one is given."""
-    return {"tolerance": tolerance_pa, "error_budget": error_budget_pa,
-            "fallback": {"start": None, "return_after": return_after}}
+    error budget is removed (null) unless one is given."""
+    return {"tolerance": tolerance_pa, "error_budget": error_budget_pa, "fallback": {"return_after": return_after}}
 
 
 def scaled_gravity(scene_file, factor):
