@@ -1,5 +1,8 @@
 #include "mpm_solver/app/laws_command.hpp"
 
+#include <span>
+#include <string_view>
+
 #include "mpm_solver/laws/law_registry.hpp"
 
 namespace grainbank::mpm::app {
@@ -14,13 +17,21 @@ nlohmann::json law_catalogue() {
   return {{"laws", laws}};
 }
 
+namespace {
+
+void print_keys(std::ostream& out, std::span<const std::string_view> keys) {
+  for (std::size_t k = 0; k < keys.size(); ++k) out << (k ? ", " : "") << keys[k];
+}
+
+}  // namespace
+
 void print_law_table(std::ostream& out) {
   for (const LawKind& kind : law_kinds()) {
     out << kind.name << (kind.dem_backed ? "  dem-backed  " : "  analytic  ");
-    for (std::size_t k = 0; k < kind.keys.size(); ++k) out << (k ? ", " : "") << kind.keys[k];
+    print_keys(out, kind.keys);
     for (const KeyBlock& block : kind.blocks) {
       out << "; " << block.name << ": ";
-      for (std::size_t k = 0; k < block.keys.size(); ++k) out << (k ? ", " : "") << block.keys[k];
+      print_keys(out, block.keys);
     }
     out << '\n';
   }

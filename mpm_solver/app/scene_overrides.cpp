@@ -39,16 +39,22 @@ bool contains(std::span<const std::string_view> keys, std::string_view key) {
   return std::find(keys.begin(), keys.end(), key) != keys.end();
 }
 
+// The material's block `name` when it is an object (anything else is the loader's to refuse).
+template <class Json>
+Json* object_block(Json& material, std::string_view name) {
+  const auto node = material.find(name);
+  return node != material.end() && node->is_object() ? &*node : nullptr;
+}
+
+void erase_keys_not_in(nlohmann::json& object, std::span<const std::string_view> keys) {
+  for (auto it = object.begin(); it != object.end();) it = contains(keys, it.key()) ? std::next(it) : object.erase(it);
+}
+
 void drop_keys_not_of(nlohmann::json& material, const std::string& law) {
   const LawKind kind = *find_law_kind(law);
-  for (auto it = material.begin(); it != material.end();)
-    it = contains(kind.keys, it.key()) ? std::next(it) : material.erase(it);
-  for (const KeyBlock& block : kind.blocks) {
-    const auto node = material.find(block.name);
-    if (node == material.end() || !node->is_object()) continue;
-    for (auto it = node->begin(); it != node->end();)
-      it = contains(block.keys, it.key()) ? std::next(it) : node->erase(it);
-  }
+  erase_keys_not_in(material, kind.keys);
+  for (const KeyBlock& block : kind.blocks)
+    if (nlohmann::json* node = object_block(material, block.name)) erase_keys_not_in(*node, block.keys);
   if (law == "live" && material.contains("library")) material.erase("cell");
 }
 
@@ -82,11 +88,9 @@ void require_keys_of_its_law(const nlohmann::json& material) {
   const std::optional<LawKind> kind = find_law_kind(law);
   if (!kind) return;  // the loader names an unknown law
   require_keys_in(material, kind->keys, "", law);
-  for (const KeyBlock& block : kind->blocks) {
-    const auto node = material.find(block.name);
-    if (node != material.end() && node->is_object())
+  for (const KeyBlock& block : kind->blocks)
+    if (const nlohmann::json* node = object_block(material, block.name))
       require_keys_in(*node, block.keys, std::string(block.name) + ".", law);
-  }
 }
 
 // The flags that act on the DEM-backed materials, as the user typed them ("--law/--material").
