@@ -37,11 +37,21 @@ DruckerPragerLaw::DruckerPragerLaw(double density, DruckerPragerParameters param
     throw std::invalid_argument("tensile_strength: expected a number in [0, " + std::to_string(apex) +
                                 "] (the apex of the yield cone), got " + std::to_string(parameters_.tensile_strength));
   if (parameters_.rheology) check(*parameters_.rheology, eta_);
+  if (parameters_.separation && parameters_.cohesion > 0)
+    throw std::invalid_argument("separation: expected a cohesionless material (cohesion 0), got cohesion " +
+                                std::to_string(parameters_.cohesion));
 }
 
 std::size_t DruckerPragerLaw::add_point(PointStress& initial_stress) {
   initial_stress = PointStress{};
-  return points_++;
+  packing_.emplace_back();
+  return packing_.size() - 1;
+}
+
+double DruckerPragerLaw::p_wave_modulus(std::size_t slot) const {
+  const double modulus = parameters_.elasticity.p_wave_modulus();
+  const Packing& packing = packing_[slot];
+  return packing.separated_at > 0 ? modulus * packing.separated_at / packing.volume_ratio : modulus;
 }
 
 PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) const {
@@ -76,19 +86,68 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) co
   return out;
 }
 
-void DruckerPragerLaw::update(std::size_t, const KinematicIncrement& increment, const Mat2&, PointStress& stress) {
-  stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment), increment.dt);
+void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F,
+                              PointStress& stress) {
+  if (!parameters_.separation) {
+    stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment), increment.dt);
+    return;
+  }
+  Packing& packing = packing_[slot];
+  const double previous_volume = packing.volume_ratio;
+  packing.volume_ratio = F.determinant();
+  KinematicIncrement loading = increment;
+  if (packing.separated_at > 0) {
+    if (packing.volume_ratio > packing.separated_at) {
+      stress = PointStress{};
+      return;
+    }
+    // Packed back within the step: only the motion after contact loads it, from zero stress.
+    if (previous_volume > packing.volume_ratio) {
+      const double after_contact =
+          std::log(packing.separated_at / packing.volume_ratio) / std::log(previous_volume / packing.volume_ratio);
+      loading = KinematicIncrement::of_velocity_gradient(increment.L, after_contact * increment.dt);
+    }
+    packing.separated_at = 0;
+    stress = PointStress{};
+  }
+  const PointStress trial = elastic_predictor(parameters_.elasticity, stress, loading);
+  const double trial_pressure = pressure_of(trial);
+  if (trial_pressure < 0) {
+    // Came apart within the step, where its pressure crossed zero: its volume then was J e^{p*/K}.
+    stress = PointStress{};
+    packing.separated_at = packing.volume_ratio * std::exp(trial_pressure / parameters_.elasticity.bulk_modulus());
+    return;
+  }
+  stress = return_map(trial, increment.dt);
+}
+
+void DruckerPragerLaw::save_state(LawStateWriter& out) const {
+  if (!parameters_.separation) return;
+  std::vector<double> rows;
+  rows.reserve(2 * packing_.size());
+  for (const Packing& p : packing_) rows.insert(rows.end(), {p.separated_at, p.volume_ratio});
+  out.write_table("packing", rows, 2);
+}
+
+void DruckerPragerLaw::restore_state(LawStateReader& in) {
+  if (!parameters_.separation) return;
+  const std::vector<double> rows = in.read_table("packing", 2);
+  if (rows.size() != 2 * packing_.size())
+    throw std::runtime_error("drucker_prager restart: " + std::to_string(rows.size() / 2) + " points' packing for " +
+                             std::to_string(packing_.size()) + " points");
+  for (std::size_t i = 0; i < packing_.size(); ++i) packing_[i] = {rows[2 * i], rows[2 * i + 1]};
 }
 
 namespace {
 
 // {"law": "drucker_prager", "density": ρ, "young": E, "poisson": ν, "friction_angle": φ [degrees],
 //  "cohesion": c [Pa] (0), "tensile_strength": [Pa] (0), "dilatancy_angle": ψ [degrees] (0),
+//  "separation": pulled apart, carries nothing until packed back (false; cohesion 0 only),
 //  "inertial_rheology": {"mu_2": μ_2, "inertial_number_0": I_0, "grain_diameter": d [m],
 //                        "grain_density": ρ_s [kg/m³]} (none: rate-independent)}
 constexpr std::string_view kKeys[] = {"name",     "law",      "density",          "young",           "poisson",
                                       "friction_angle", "cohesion", "tensile_strength", "inertial_rheology",
-                                      "dilatancy_angle"};
+                                      "dilatancy_angle", "separation"};
 
 InertialRheology read_rheology(const common::JsonNode& node) {
   using common::Range;
@@ -106,6 +165,7 @@ std::unique_ptr<ConstitutiveLaw> read(const common::JsonNode& material, const La
   p.tensile_strength = material.number_or("tensile_strength", 0, Range::at_least(0));
   if (const auto rheology = material.find("inertial_rheology")) p.rheology = read_rheology(*rheology);
   p.dilatancy_angle = material.number_or("dilatancy_angle", 0, Range::between(0, 90, false, true)) * std::numbers::pi / 180;
+  p.separation = material.boolean_or("separation", false);
   return common::at_node(material, [&] {
     return std::make_unique<DruckerPragerLaw>(material.number("density", Range::positive()), p);
   });

@@ -21,8 +21,15 @@
 // Δλ = f* / (G + K η η̄) (radial at constant p when ψ = 0).
 // Optionally rate-dependent (ψ = 0 only): with an InertialRheology the cone's friction is μ(I) from η
 // = sin φ = μ_s on, at the inertial number of the plastic shear rate (inertial_rheology.hpp).
+// Optionally separating (cohesionless only): a point pulled apart to the stress-free apex is a gas of
+// grains out of contact, the "disconnected" state of Dunatunga & Kamrin (2015, J. Fluid Mech.
+// 779:483). It carries no stress, and no stiffness, until it is packed back to the volume J_s at
+// which it came apart; without it, a point dilated to J > J_s pushes back at once when compressed,
+// with its full modulus on its dilated volume (a stiff gas, whose wave speed sqrt(M J / ρ0) also sets
+// the step).
 #pragma once
 #include <optional>
+#include <vector>
 
 #include "mpm_solver/laws/elastic_law.hpp"
 #include "mpm_solver/laws/inertial_rheology.hpp"
@@ -36,6 +43,7 @@ struct DruckerPragerParameters {
   double tensile_strength = 0;  // T [Pa], in [0, ξ c / η] (the apex of the cone)
   std::optional<InertialRheology> rheology;  // none: rate-independent
   double dilatancy_angle = 0;   // ψ [rad], in [0, φ]
+  bool separation = false;      // pulled apart, carries nothing until packed back (cohesion 0 only)
 };
 
 class DruckerPragerLaw : public ConstitutiveLaw {
@@ -46,8 +54,12 @@ class DruckerPragerLaw : public ConstitutiveLaw {
   double density() const override { return density_; }
   std::size_t add_point(PointStress& initial_stress) override;
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
-  double p_wave_modulus(std::size_t) const override { return parameters_.elasticity.p_wave_modulus(); }
+  // Of a separated point: the modulus it will have when packed back, counted at its current density
+  // (the solver divides by it), so that its signal is the packed material's.
+  double p_wave_modulus(std::size_t slot) const override;
   bool replicable() const override { return true; }
+  void save_state(LawStateWriter& out) const override;
+  void restore_state(LawStateReader& in) override;
 
   // The plastic correction alone (for tests): the admissible stress closest to `trial` in the sense
   // above, for a step of dt (which only the rate-dependent cone uses).
@@ -57,7 +69,13 @@ class DruckerPragerLaw : public ConstitutiveLaw {
   double density_;
   DruckerPragerParameters parameters_;
   double eta_, xi_, eta_bar_;
-  std::size_t points_ = 0;
+  // Per point, with `separation`: the volume ratio J_s at which it came apart (0: in contact), and
+  // its volume ratio J after its last update.
+  struct Packing {
+    double separated_at = 0;
+    double volume_ratio = 1;
+  };
+  std::vector<Packing> packing_;
 };
 
 }  // namespace grainbank::mpm

@@ -208,6 +208,50 @@ TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {
   EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6, std::nullopt}), std::invalid_argument);
 }
 
+// Drives a point by an in-plane isotropic strain of ln J = `log_volume` in one step, from volume
+// ratio J = exp(`from`) (plane strain: the pressure changes by -K ln J while elastic).
+void strain_isotropically(DruckerPragerLaw& law, double from, double log_volume, PointStress& s) {
+  const double dt = 1e-3;
+  const Mat2 L = Mat2::Identity() * log_volume / (2 * dt);
+  law.update(0, KinematicIncrement::of_velocity_gradient(L, dt), Mat2::Identity() * std::exp((from + log_volume) / 2), s);
+}
+
+TEST(DruckerPrager, ASeparatedPointCarriesNothingUntilPackedBackToTheVolumeItCameApartAt) {
+  const Elasticity e{1e6, 0.3};
+  DruckerPragerParameters sand{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
+  sand.separation = true;
+  DruckerPragerLaw separating(1500, sand), stiff_gas(1500, DruckerPragerParameters{e, sand.friction_angle, 0, 0, std::nullopt});
+  for (DruckerPragerLaw* law : {&separating, &stiff_gas}) {
+    PointStress s;
+    law->add_point(s);
+    // Packed to ln J = -0.01 (p = 0.01 K), then pulled apart to +0.02: its pressure reaches zero at J = 1.
+    strain_isotropically(*law, 0, -0.01, s);
+    EXPECT_NEAR(pressure_of(s), 0.01 * e.bulk_modulus(), 1e-6);
+    for (int k = 0; k < 3; ++k) strain_isotropically(*law, -0.01 + 0.01 * k, 0.01, s);
+    EXPECT_EQ(pressure_of(s), 0);
+    strain_isotropically(*law, 0.02, -0.006, s);
+    if (law == &stiff_gas) {
+      EXPECT_NEAR(pressure_of(s), 0.006 * e.bulk_modulus(), 1e-6);  // pushes back at once
+      continue;
+    }
+    // Apart, it carries nothing and its signal is that of the packed sand (M / ρ at J = 1).
+    EXPECT_EQ(pressure_of(s), 0);
+    EXPECT_NEAR(law->p_wave_modulus(0) / (1500 / std::exp(0.014)), e.p_wave_modulus() / 1500, 1e-9 * e.p_wave_modulus());
+    strain_isotropically(*law, 0.014, -0.012, s);
+    EXPECT_EQ(pressure_of(s), 0);
+    // Packed back past J = 1 within the step: loaded by the 0.004 after contact only.
+    strain_isotropically(*law, 0.002, -0.006, s);
+    EXPECT_NEAR(pressure_of(s), 0.004 * e.bulk_modulus(), 1e-6);
+    EXPECT_EQ(law->p_wave_modulus(0), e.p_wave_modulus());
+  }
+}
+
+TEST(DruckerPrager, OnlyACohesionlessMaterialSeparates) {
+  DruckerPragerParameters cohesive{{1e6, 0.3}, 0.5, 1000, 0, std::nullopt};
+  cohesive.separation = true;
+  EXPECT_THROW(DruckerPragerLaw(1000, cohesive), std::invalid_argument);
+}
+
 TEST(Gravity, RampStartsFromItsInitialValue) {
   const Gravity g{Vec2(0, -10), GravityRamp{Vec2(0, -2), 1.0, 3.0}};
   EXPECT_EQ(g.at(0.0), Vec2(0, -2));

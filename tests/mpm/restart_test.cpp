@@ -6,11 +6,13 @@
 
 #include <filesystem>
 #include <functional>
+#include <numbers>
 #include <string>
 
 #include "dem_sampler/cell/preparation.hpp"
 #include "dem_sampler/cell/snow_preset.hpp"
 #include "mpm_solver/dem_laws/live_dem_law.hpp"
+#include "mpm_solver/laws/drucker_prager_law.hpp"
 #include "mpm_solver/io/restart.hpp"
 #include "tests/dem/dem_test_util.hpp"
 #include "tests/mpm/mpm_test_util.hpp"
@@ -32,21 +34,7 @@ Solver build(const dem::DemCell& cell) {
   return solver;
 }
 
-TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
-  const dem::DemCell cell = small_cell();
-  const double dt = 1e-4;
-  Solver reference = build(cell);
-  for (int k = 0; k < 30; ++k) reference.step(dt);
-
-  Solver first = build(cell);
-  for (int k = 0; k < 15; ++k) first.step(dt);
-  const auto file = std::filesystem::temp_directory_path() / "gb_mpm_restart_test.h5";
-  std::filesystem::remove(file);
-  io::write_restart(file, first);
-  Solver resumed = build(cell);
-  io::read_restart(file, resumed);
-  for (int k = 0; k < 15; ++k) resumed.step(dt);
-
+void expect_same_points(const Solver& reference, const Solver& resumed) {
   EXPECT_EQ(resumed.time(), reference.time());
   ASSERT_EQ(resumed.points().size(), reference.points().size());
   for (std::size_t p = 0; p < reference.points().size(); ++p) {
@@ -59,6 +47,38 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
     EXPECT_EQ(a.stress.zz, b.stress.zz);
     EXPECT_EQ(a.volume, b.volume);
   }
+}
+
+// Runs `build()` 2n steps, and n steps then a restart file then n more; `halfway` changes both runs
+// after their first n steps. Returns the solver before the restart, the uninterrupted one and the
+// resumed one.
+struct RestartedRun {
+  Solver before, reference, resumed;
+};
+RestartedRun run_with_restart(const std::function<Solver()>& build, int n, double dt, const std::string& file_name,
+                              const std::function<void(Solver&)>& halfway = [](Solver&) {}) {
+  Solver reference = build();
+  for (int k = 0; k < n; ++k) reference.step(dt);
+  halfway(reference);
+  for (int k = 0; k < n; ++k) reference.step(dt);
+  Solver first = build();
+  for (int k = 0; k < n; ++k) first.step(dt);
+  const auto file = std::filesystem::temp_directory_path() / file_name;
+  std::filesystem::remove(file);
+  io::write_restart(file, first);
+  Solver resumed = build();
+  io::read_restart(file, resumed);
+  halfway(resumed);
+  for (int k = 0; k < n; ++k) resumed.step(dt);
+  std::filesystem::remove(file);
+  return {std::move(first), std::move(reference), std::move(resumed)};
+}
+
+TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
+  const dem::DemCell cell = small_cell();
+  auto [first, reference, resumed] = run_with_restart([&] { return build(cell); }, 15, 1e-4, "gb_mpm_restart_test.h5");
+
+  expect_same_points(reference, resumed);
   EXPECT_EQ(resumed.obstacles()[0].tangential_history(), reference.obstacles()[0].tangential_history());
   // The points carried an affine velocity (APIC), so the file had to carry it.
   double affine = 0;
@@ -68,6 +88,28 @@ TEST(Restart, ContinuesExactlyLikeTheUninterruptedRun) {
   double friction = 0;
   for (double f : reference.obstacles()[0].tangential_history()) friction = std::max(friction, std::abs(f));
   EXPECT_GT(friction, 0);
+}
+
+// A point of separating sand pulled apart, then packed back after the restart: the volume it came
+// apart at decides when it carries stress again, so the restart file must carry it.
+TEST(Restart, SeparatedSandContinuesExactly) {
+  DruckerPragerParameters sand{{1e5, 0.3}, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
+  sand.separation = true;
+  const auto pulled_apart = [&] {
+    Solver solver(Grid(Vec2(0, 0), 0.1, 8, 8), SolverSettings{});
+    solver.add_law(std::make_unique<DruckerPragerLaw>(1500, sand));
+    solver.add_point(0, Vec2(0.43, 0.37), 1e-2, 0.05);
+    solver.set_homogeneous_drive(HomogeneousDrive{Mat2::Identity() * 5, Vec2(0.43, 0.37), std::nullopt});
+    return solver;
+  };
+  const auto packed_back = [](Solver& s) {
+    s.set_homogeneous_drive(HomogeneousDrive{Mat2::Identity() * -10, Vec2(0.43, 0.37), std::nullopt});
+  };
+  auto [first, reference, resumed] = run_with_restart(pulled_apart, 40, 1e-4, "gb_mpm_restart_sand_test.h5", packed_back);
+  expect_same_points(reference, resumed);
+  const double packed_modulus = Elasticity{1e5, 0.3}.p_wave_modulus();
+  EXPECT_LT(first.law(0).p_wave_modulus(0), packed_modulus);    // apart at the restart
+  EXPECT_GT(pressure_of(reference.points()[0].stress), 0);      // packed back by the end
 }
 
 Mat2 flattening() {
