@@ -8,7 +8,7 @@ friction (--wall-friction, default that of the back wall and the gate) acts on t
 
   python3 column_scene.py OUT.json --aspect-ratio A [--width L0] [--cell-size H] [--points-per-cell N]
                           [--cfl C] [--end T] [--transfer apic|pic|RATE|apic_flip:RATE]
-                          [--inertial-rheology] [--channel-width W [--wall-friction MU]]
+                          [--inertial-rheology] [--separation] [--channel-width W [--wall-friction MU]]
 """
 import argparse
 import json
@@ -31,12 +31,16 @@ def p_wave_modulus(young=YOUNG, poisson=POISSON):
     return lam + young / (1 + poisson)
 
 
-def drucker_prager(friction_angle=FRICTION_ANGLE, density=DENSITY, young=YOUNG, poisson=POISSON, rheology=None):
-    """The column's material: a cohesionless Drucker–Prager cone (the study's sand by default)."""
+def drucker_prager(friction_angle=FRICTION_ANGLE, density=DENSITY, young=YOUNG, poisson=POISSON, rheology=None,
+                   separation=False):
+    """The column's material: a cohesionless Drucker–Prager cone (the study's sand by default);
+    `separation`: sand pulled apart carries nothing until packed back (drucker_prager_law.hpp)."""
     out = {"name": "sand", "law": "drucker_prager", "density": density, "young": young, "poisson": poisson,
            "friction_angle": friction_angle}
     if rheology:
         out["inertial_rheology"] = rheology
+    if separation:
+        out["separation"] = True
     return out
 
 
@@ -115,11 +119,15 @@ def main():
                         help="apic, pic, a FLIP/PIC rate [1/s] or apic_flip:RATE (default apic_flip:5)")
     parser.add_argument("--inertial-rheology", action="store_true",
                         help="μ(I) with the rate dependence of Jop et al.'s glass beads (JOP_RHEOLOGY)")
+    parser.add_argument("--separation", action="store_true",
+                        help="sand pulled apart carries nothing until packed back (Dunatunga & Kamrin 2015)")
     parser.add_argument("--channel-width", type=float, help="side walls this far apart [m] (default: none)")
     parser.add_argument("--wall-friction", type=float, default=WALL_FRICTION)
     args = parser.parse_args()
+    rheology = JOP_RHEOLOGY if args.inertial_rheology else None
     s = scene(args.aspect_ratio, args.width, args.cell_size, args.points_per_cell, args.cfl, args.end, args.transfer,
-              JOP_RHEOLOGY if args.inertial_rheology else None, channel=channel(args.channel_width, args.wall_friction))
+              rheology, material=drucker_prager(rheology=rheology, separation=args.separation),
+              channel=channel(args.channel_width, args.wall_friction))
     args.out.parent.mkdir(parents=True, exist_ok=True)
     args.out.write_text(json.dumps(s, indent=2) + "\n")
 
