@@ -1,7 +1,8 @@
 """The Lube validation (workflows/lube_validation): the quick study runs the coarse a = 1 column to
 rest and writes its table, JSON and figures; the deposit's edges lie in order inside its front; the
-scene generator's column is what the study measures, with or without μ(I), and in a channel; a heap
-below its friction angle stands; a thin layer launched along the base slides as far as a rigid block."""
+scene generator's column is what the study measures, with or without μ(I), and in a channel; the
+front's convergence study measures each grid once; a heap below its friction angle stands; a thin
+layer launched along the base slides as far as a rigid block."""
 import json
 import math
 import shutil
@@ -37,6 +38,35 @@ class LubeValidationTest(WorkflowTest):
         scene = json.loads((self.out / r["case"] / "scene.json").read_text())
         self.assertEqual(scene["integration"], {"transfer": {"apic_flip": {"pic_rate": 5.0}}})
         self.assertEqual(scene["obstacles"][2]["remove_at"], 0.02)
+
+    def test_front_convergence_measures_each_grid_once(self):
+        """front_convergence.py on two coarse grids of separating sand: per grid the front in time, its
+        peak speed, and edges in order inside the front; a second call measures the runs again
+        without re-running them."""
+        command = ["/usr/bin/python3", WORKFLOWS / "lube_validation" / "front_convergence.py", self.out, "--build",
+                   BUILD, "--cell-sizes", "0.04", "0.02", "--end", "0.2", "--times", "0.1", "--separation"]
+        run(command)
+        results = self.assert_json_fields(self.out / "fronts.json", [])
+        self.assertEqual([r["L0_over_h"] for r in results], [5, 10])
+        for r in results:
+            scene = json.loads((self.out / f"h{r['h']:g}" / "scene.json").read_text())
+            self.assertTrue(scene["materials"][0]["separation"])
+            self.assertEqual(scene["time"]["end"], 0.2)
+            self.assertGreater(r["front"], 0)
+            # Faster than free fall from the top, sqrt(2 g H0), no point can be.
+            self.assertGreater(r["peak_speed"], 0)
+            self.assertLess(r["peak_speed"], math.sqrt(2 * 9.81 * 0.2))
+            e = [r["edges"][k] for k in ("0.01", "0.025", "0.05", "0.1") if not math.isnan(r["edges"][k])]
+            self.assertEqual(e, sorted(e, reverse=True))
+            self.assertLessEqual(e[0], r["front"] + r["h"] / 0.2 + 1e-9)
+        stamps = {r["h"]: (self.out / f"h{r['h']:g}" / "run" / "summary.json").stat().st_mtime_ns for r in results}
+        first = (self.out / "fronts.json").read_text()
+        run(command)
+        for h, stamp in stamps.items():
+            self.assertEqual((self.out / f"h{h:g}" / "run" / "summary.json").stat().st_mtime_ns, stamp)
+        self.assertEqual((self.out / "fronts.json").read_text(), first)
+        self.assertIn("| L0/h |", (self.out / "fronts.md").read_text())
+        self.assert_png(self.out / "fronts.png")
 
     def test_scene_with_inertial_rheology(self):
         out = self.out / "mu_i.json"
