@@ -93,29 +93,35 @@ void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increm
     return;
   }
   Packing& packing = packing_[slot];
-  const double previous_volume = packing.volume_ratio;
-  packing.volume_ratio = F.determinant();
+  // Where the step starts on the elastic line: its volume and pressure (zero when packed back).
+  double start_volume = packing.volume_ratio;
+  const double volume = F.determinant();
+  packing.volume_ratio = volume;
   KinematicIncrement loading = increment;
   if (packing.separated_at > 0) {
-    if (packing.volume_ratio > packing.separated_at) {
+    // Apart, or turned inside out by a velocity gradient that no neighbour constrains (a lone point
+    // at a front): no stress either way.
+    if (volume > packing.separated_at || !(volume > 0)) {
       stress = PointStress{};
       return;
     }
     // Packed back within the step: only the motion after contact loads it, from zero stress.
-    if (previous_volume > packing.volume_ratio) {
-      const double after_contact =
-          std::log(packing.separated_at / packing.volume_ratio) / std::log(previous_volume / packing.volume_ratio);
+    if (start_volume > volume) {
+      const double after_contact = std::log(packing.separated_at / volume) / std::log(start_volume / volume);
       loading = KinematicIncrement::of_velocity_gradient(increment.L, after_contact * increment.dt);
     }
+    start_volume = packing.separated_at;
     packing.separated_at = 0;
     stress = PointStress{};
   }
+  const double start_pressure = pressure_of(stress);
   const PointStress trial = elastic_predictor(parameters_.elasticity, stress, loading);
-  const double trial_pressure = pressure_of(trial);
-  if (trial_pressure < 0) {
-    // Came apart within the step, where its pressure crossed zero: its volume then was J e^{p*/K}.
+  if (pressure_of(trial) < 0) {
+    // Came apart within the step, where its pressure reached zero: at J e^{p/K} from the step's start.
+    // Counted from the start rather than back from the end, so that a step whose F and strain
+    // disagree (a huge L dt) cannot set the packed volume, and with it the signal speed, at random.
     stress = PointStress{};
-    packing.separated_at = packing.volume_ratio * std::exp(trial_pressure / parameters_.elasticity.bulk_modulus());
+    packing.separated_at = start_volume * std::exp(start_pressure / parameters_.elasticity.bulk_modulus());
     return;
   }
   stress = return_map(trial, increment.dt);

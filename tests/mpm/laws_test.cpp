@@ -246,6 +246,29 @@ TEST(DruckerPrager, ASeparatedPointCarriesNothingUntilPackedBackToTheVolumeItCam
   }
 }
 
+// A lone point at a front has no neighbour to constrain its velocity gradient, so a step may blow its
+// F up far beyond what the step's strain says. Its packed volume, and so the speed of the signal the
+// solver counts at its current density, must come from where the step started.
+TEST(DruckerPrager, AWildStepNeitherSetsThePackedVolumeNorTurnsItsStressToNaN) {
+  const Elasticity e{1e6, 0.3};
+  DruckerPragerParameters sand{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
+  sand.separation = true;
+  DruckerPragerLaw law(1500, sand);
+  PointStress s;
+  law.add_point(s);
+  const double dt = 1e-3, blown_up = 9e4;
+  law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * 0.005 / dt, dt),
+             Mat2::Identity() * std::sqrt(blown_up), s);
+  EXPECT_EQ(pressure_of(s), 0);
+  // c² = M_reported / ρ with ρ = ρ0 / J: the packed sand's M / ρ0, not J times it.
+  EXPECT_NEAR(law.p_wave_modulus(0) * blown_up / 1500, e.p_wave_modulus() / 1500, 1e-9 * e.p_wave_modulus());
+  // Turned inside out while apart: still no stress, and nothing undefined.
+  law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * -0.005 / dt, dt),
+             Mat2{{-1, 0}, {0, 1}}, s);
+  EXPECT_EQ(pressure_of(s), 0);
+  EXPECT_TRUE(std::isfinite(s.in_plane.norm()));
+}
+
 TEST(DruckerPrager, OnlyACohesionlessMaterialSeparates) {
   DruckerPragerParameters cohesive{{1e6, 0.3}, 0.5, 1000, 0, std::nullopt};
   cohesive.separation = true;
