@@ -1,5 +1,6 @@
 #include "mpm_solver/laws/drucker_prager_law.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -100,14 +101,17 @@ void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increm
   KinematicIncrement loading = increment;
   if (packing.separated_at > 0) {
     // Apart, or turned inside out by a velocity gradient that no neighbour constrains (a lone point
-    // at a front): no stress either way.
-    if (volume > packing.separated_at || !(volume > 0)) {
+    // at a front): no stress either way. Back exactly at J_s is still apart: its pressure is zero
+    // there, and a point that came apart from zero stress has J_s equal to its volume to the bit.
+    if (volume >= packing.separated_at || !(volume > 0)) {
       stress = PointStress{};
       return;
     }
-    // Packed back within the step: only the motion after contact loads it, from zero stress.
+    // Packed back within the step: only the motion after contact loads it, from zero stress. A step
+    // that started already below J_s (its F and strain disagree) loads by no more than its own motion.
     if (start_volume > volume) {
-      const double after_contact = std::log(packing.separated_at / volume) / std::log(start_volume / volume);
+      const double after_contact =
+          std::min(1.0, std::log(packing.separated_at / volume) / std::log(start_volume / volume));
       loading = KinematicIncrement::of_velocity_gradient(increment.L, after_contact * increment.dt);
     }
     start_volume = packing.separated_at;

@@ -269,6 +269,33 @@ TEST(DruckerPrager, AWildStepNeitherSetsThePackedVolumeNorTurnsItsStressToNaN) {
   EXPECT_TRUE(std::isfinite(s.in_plane.norm()));
 }
 
+// A point at rest comes apart from zero stress, so the volume it came apart at is its volume to the
+// bit; the next step can bring it back to exactly that volume (the live twin's column at L0/h = 20
+// stopped there: "increment: expected a positive time step").
+TEST(DruckerPrager, APointBackAtExactlyTheVolumeItCameApartAtIsStillApart) {
+  const Elasticity e{1e6, 0.3};
+  DruckerPragerParameters sand{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
+  sand.separation = true;
+  DruckerPragerLaw law(1500, sand);
+  PointStress s;
+  law.add_point(s);
+  const double dt = 1e-3;
+  const auto isotropic = [&](double log_volume, double volume) {
+    law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt),
+               Mat2::Identity() * std::sqrt(volume), s);
+  };
+  isotropic(1e-3, std::exp(1e-3));  // from zero stress at J = 1: apart, J_s = 1 exactly
+  EXPECT_EQ(pressure_of(s), 0);
+  EXPECT_NO_THROW(isotropic(-1e-3, 1.0));
+  EXPECT_EQ(pressure_of(s), 0);
+  EXPECT_EQ(law.p_wave_modulus(0), e.p_wave_modulus());
+  // Packed past J_s by a step that started below it (F and the strain disagree): loaded by its own
+  // motion, ln J = -0.002, not by the 0.01 that F's volumes would count after contact.
+  isotropic(1e-3, 0.995);
+  isotropic(-2e-3, 0.99);
+  EXPECT_NEAR(pressure_of(s), 2e-3 * e.bulk_modulus(), 1e-6 * e.bulk_modulus());
+}
+
 TEST(DruckerPrager, OnlyACohesionlessMaterialSeparates) {
   DruckerPragerParameters cohesive{{1e6, 0.3}, 0.5, 1000, 0, std::nullopt};
   cohesive.separation = true;
