@@ -1,5 +1,6 @@
 // time.min_time_step: a run whose stable step collapses stops with a message naming the criterion,
-// the point and what to change, and leaves a restart, instead of crawling on at a vanishing step.
+// the point and what to change, and leaves a restart, instead of crawling on at a vanishing step;
+// without a floor, a step that falls a hundredfold below the run's largest is reported and the run goes on.
 // The case: one live point (20-sphere bonded cell) in a domain stretched homogeneously at 200 /s.
 // Seed Eq. 4 bounds its step by q_h d_min / |ḣ|: about 0.01 × 3.4e-4 m / (200 /s × 1.4 mm) ≈ 1e-5 s,
 // below a floor of 1e-4 s, while the same run without the floor goes on.
@@ -7,6 +8,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 
@@ -57,6 +59,41 @@ TEST(MinTimeStep, ACollapsedStepStopsTheRunNamingEquation4ThePointAndTheRemedy) 
   const nlohmann::json summary = run(dir, "free", "");
   EXPECT_FALSE(summary["interrupted"].get<bool>());
   EXPECT_LT(summary["time_step"]["min"].get<double>(), 1e-4);
+}
+
+// One elastic point at the centre of a homogeneous expansion at 200 /s in both directions: it stays
+// put while its volume grows as e^{400 t}, so its density falls and its wave speed sqrt(M V / m), with
+// it the CFL step, grows as e^{200 t}. By 12 ms the step has fallen elevenfold, by 25 ms some
+// 150-fold from the run's largest, its first.
+nlohmann::json run_expanding_elastic(const TemporaryDirectory& dir, const std::string& name, double end) {
+  app::RunOptions o;
+  o.scene = dir.write(name + ".json", R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [10, 6]},
+    "time": {"end": )" + std::to_string(end) + R"(, "output_interval": 0.05, "max_time_step": 1e-2},
+    "integration": {"homogeneous_drive": {"L": [[200, 0], [0, 200]], "origin": [0.55, 0.25]}},
+    "materials": [{"name": "jelly", "law": "elastic", "density": 1000, "young": 1e6, "poisson": 0.3}],
+    "regions": [{"material": "jelly", "rectangle": {"min": [0.5, 0.2], "max": [0.6, 0.3]}, "points_per_cell": 1}]})");
+  o.out = dir.path() / name;
+  o.progress = false;
+  return app::run_scene(o);
+}
+
+TEST(MinTimeStep, AStepFallenAHundredfoldIsReportedNamingItsCriterionAndTheRunGoesOn) {
+  const TemporaryDirectory dir("gb_step_fall");
+  const nlohmann::json fallen = run_expanding_elastic(dir, "fallen", 0.025);
+  EXPECT_FALSE(fallen["interrupted"].get<bool>());
+  const double fall = fallen["time_step"]["max"].get<double>() / fallen["time_step"]["min"].get<double>();
+  EXPECT_GT(fall, 100);
+  EXPECT_LT(fall, 1000);
+  const nlohmann::json& reports = fallen["time_step"]["falls"];
+  ASSERT_EQ(reports.size(), 1u) << reports.dump();
+  const std::string report = reports[0].get<std::string>();
+  for (const char* part : {"the time step fell to", "of the run's largest", "CFL criterion",
+                           "time.min_time_step stops a run"})
+    EXPECT_NE(report.find(part), std::string::npos) << part << " not in: " << report;
+  // An elevenfold fall is no collapse.
+  const nlohmann::json slowed = run_expanding_elastic(dir, "slowed", 0.012);
+  EXPECT_GT(slowed["time_step"]["max"].get<double>() / slowed["time_step"]["min"].get<double>(), 5);
+  EXPECT_TRUE(slowed["time_step"]["falls"].empty()) << slowed["time_step"]["falls"].dump();
 }
 
 TEST(MinTimeStep, AFloorAboveTheCapIsRefused) {
