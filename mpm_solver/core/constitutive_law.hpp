@@ -43,8 +43,11 @@ class ConstitutiveLaw {
   // (SolverSettings::skip_increment): its dt is all the time they took.
   virtual void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) = 0;
 
-  // Current volume over initial volume of the point; F is its in-plane deformation gradient.
-  virtual double volume_ratio(std::size_t /*slot*/, const Mat2& F) const { return F.determinant(); }
+  // Current volume over initial volume of the point, given `kinematic`, the ratio its motion gives:
+  // the product of its steps' det F_inc = e^{tr L dt}. That is det F in exact arithmetic, but stays
+  // positive and exact where det F of a point sheared without bound is lost to round-off. A law whose
+  // material has a volume of its own (a DEM cell's) returns that.
+  virtual double volume_ratio(std::size_t /*slot*/, double kinematic) const { return kinematic; }
   // P-wave modulus M = K + 4G/3 [Pa] for the CFL condition, c = sqrt(M / ρ).
   virtual double p_wave_modulus(std::size_t slot) const = 0;
   // Largest MPM time step the law itself allows for a point of deformation gradient F at velocity

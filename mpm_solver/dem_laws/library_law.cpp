@@ -238,9 +238,9 @@ void LibraryLaw::release(std::size_t slot) {
   if (p.path.open()) enrichment_->finish(p.path);
 }
 
-double LibraryLaw::volume_ratio(std::size_t slot, const Mat2& F) const {
+double LibraryLaw::volume_ratio(std::size_t slot, double kinematic) const {
   const Point& p = points_[slot];
-  return p.cell ? model_.volume_ratio(*p.cell) : F.determinant();
+  return p.cell ? model_.volume_ratio(*p.cell) : kinematic;
 }
 
 double LibraryLaw::time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const {

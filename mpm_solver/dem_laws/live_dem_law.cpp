@@ -93,7 +93,7 @@ void LiveDemLaw::measure(std::size_t slot) {
   damage_[slot] = m.damage;
 }
 
-double LiveDemLaw::volume_ratio(std::size_t slot, const Mat2&) const {
+double LiveDemLaw::volume_ratio(std::size_t slot, double) const {
   return model_.volume_ratio(cells_[slot]);
 }
 

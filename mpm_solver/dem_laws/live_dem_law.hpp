@@ -22,7 +22,7 @@ class LiveDemLaw : public ConstitutiveLaw, public DemBackedLaw, public PointShar
   double density() const override { return model_.density(); }
   std::size_t add_point(PointStress& initial_stress) override;
   void update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F, PointStress& stress) override;
-  double volume_ratio(std::size_t slot, const Mat2& F) const override;
+  double volume_ratio(std::size_t slot, double kinematic) const override;
   double p_wave_modulus(std::size_t slot) const override { return modulus_[slot]; }
   double time_step_limit(std::size_t slot, const Mat2& F, const Mat2& L) const override;
   double damage(std::size_t slot) const override { return damage_[slot]; }

@@ -87,28 +87,29 @@ PointStress DruckerPragerLaw::return_map(const PointStress& trial, double dt) co
   return out;
 }
 
-void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2& F,
+void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increment, const Mat2& /*F*/,
                               PointStress& stress) {
   if (!parameters_.separation) {
     stress = return_map(elastic_predictor(parameters_.elasticity, stress, increment), increment.dt);
     return;
   }
   Packing& packing = packing_[slot];
-  // Where the step starts on the elastic line: its volume and pressure (zero when packed back).
+  // Where the step starts on the elastic line: its volume and pressure (zero when packed back). The
+  // volume follows the motion, J e^{tr L dt}, the same measure as the elastic line's pressure, and
+  // not det F, which round-off takes once a lone front point's F has been sheared without bound.
   double start_volume = packing.volume_ratio;
-  const double volume = F.determinant();
+  const double volume = start_volume * std::exp(increment.L.trace() * increment.dt);
   packing.volume_ratio = volume;
   KinematicIncrement loading = increment;
   if (packing.separated_at > 0) {
-    // Apart, or turned inside out by a velocity gradient that no neighbour constrains (a lone point
-    // at a front): no stress either way. Back exactly at J_s is still apart: its pressure is zero
-    // there, and a point that came apart from zero stress has J_s equal to its volume to the bit.
-    if (volume >= packing.separated_at || !(volume > 0)) {
+    // Apart: no stress. Back exactly at J_s is still apart: its pressure is zero there, and a point
+    // that came apart from zero stress has J_s equal to its volume to the bit.
+    if (volume >= packing.separated_at) {
       stress = PointStress{};
       return;
     }
-    // Packed back within the step: only the motion after contact loads it, from zero stress. A step
-    // that started already below J_s (its F and strain disagree) loads by no more than its own motion.
+    // Packed back within the step: only the motion after contact loads it, from zero stress (never
+    // more than the step's motion: the elastic line and the volume agree only to round-off).
     if (start_volume > volume) {
       const double after_contact =
           std::min(1.0, std::log(packing.separated_at / volume) / std::log(start_volume / volume));
@@ -121,9 +122,8 @@ void DruckerPragerLaw::update(std::size_t slot, const KinematicIncrement& increm
   const double start_pressure = pressure_of(stress);
   const PointStress trial = elastic_predictor(parameters_.elasticity, stress, loading);
   if (pressure_of(trial) < 0) {
-    // Came apart within the step, where its pressure reached zero: at J e^{p/K} from the step's start.
-    // Counted from the start rather than back from the end, so that a step whose F and strain
-    // disagree (a huge L dt) cannot set the packed volume, and with it the signal speed, at random.
+    // Came apart within the step, where its pressure reached zero on the elastic line: at J e^{p/K}
+    // from the step's start.
     stress = PointStress{};
     packing.separated_at = start_volume * std::exp(start_pressure / parameters_.elasticity.bulk_modulus());
     return;

@@ -1,6 +1,6 @@
 // Numerical hard cases of the MPM: high-speed impact on an obstacle, points leaving the grid, nodes
-// of near-zero mass, a time step that must shrink as the material speeds up, and the FLIP-only and
-// PIC-only ends of the blend against APIC. Each test checks finite results against a physical bound (energy,
+// of near-zero mass, a time step that must shrink as the material speeds up, a point stretched until
+// det F is round-off, and the FLIP-only and PIC-only ends of the blend against APIC. Each test checks finite results against a physical bound (energy,
 // momentum, the elastic impact stress ρ c v, CFL) or a clear error naming the point.
 #include <gtest/gtest.h>
 
@@ -191,6 +191,23 @@ TEST(HardCases, TimeStepShrinksAsTheMaterialSpeedsUp) {
   });
   EXPECT_GT(measure_flow(solver.points()).max_speed, 25);
   EXPECT_LT(previous, 0.65 * first);
+}
+
+// A point at the centre of an isochoric stretch along the diagonal, L = [[0, a], [a, 0]]: F =
+// [[cosh at, sinh at], [sinh at, cosh at]], det F = 1 exactly. By at = 20 its entries are 2.4e8, and
+// cosh² − sinh² in floating point is round-off of order 1, of either sign. Its volume, which the MPM
+// weighs its stress with, must stay the one its motion gives (stop 73: a front point whose volume
+// went negative pushed its neighbours the wrong way and blew up).
+TEST(HardCases, AStretchedPointKeepsTheVolumeItsMotionGivesWhenDetFIsRoundOff) {
+  Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), 0.1, 6, 6), kDensity, kYoung, kPoisson);
+  const double a = 1000;
+  solver.set_homogeneous_drive(HomogeneousDrive{Mat2{{0, a}, {a, 0}}, Vec2(0.3, 0.3), std::nullopt});
+  solver.add_point(0, Vec2(0.3, 0.3), 0.01, 0.05);
+  testing::run_until(solver, 0.02);
+  const MaterialPoint& mp = solver.points().front();
+  ASSERT_GT(mp.deformation_gradient.norm(), 1e8) << "the case needs det F at round-off";
+  EXPECT_NEAR(mp.volume, 0.01, 1e-12);
+  EXPECT_TRUE(finite(mp));
 }
 
 // Kinetic energy of a free elastic bar vibrating in its first mode, sampled every step.
