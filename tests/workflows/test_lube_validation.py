@@ -68,6 +68,25 @@ class LubeValidationTest(WorkflowTest):
         self.assertIn("| L0/h |", (self.out / "fronts.md").read_text())
         self.assert_png(self.out / "fronts.png")
 
+    def test_front_convergence_of_the_live_twin(self):
+        """--material live_twin runs the Drucker–Prager twin of the live study's cell: its friction angle
+        from the cell's critical-state ratio (sin φ = μ_s < sin 30°), one point per grid cell, the live
+        study's gate; the front is measured from that point spacing."""
+        out = self.out / "twin"
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "front_convergence.py", out, "--build", BUILD,
+             "--cell-sizes", "0.04", "--end", "0.12", "--times", "0.1", "--separation", "--material", "live_twin"])
+        scene = json.loads((out / "h0.04" / "scene.json").read_text())
+        twin = scene["materials"][0]
+        self.assertTrue(twin["separation"])
+        self.assertLess(twin["friction_angle"], 25)
+        self.assertGreater(twin["friction_angle"], 10)
+        self.assertEqual(scene["regions"][0]["points_per_cell"], 1)
+        result = json.loads((out / "fronts.json").read_text())[0]
+        # Before the gate opens at 0.05 s nothing moves, so the front starts at 0: the point radius
+        # of one point per cell (h / 2) is the one added to the outermost centre.
+        self.assertAlmostEqual(result["series"]["front"][0], 0, delta=1e-9)
+        self.assertGreater(result["front"], 0)
+
     def test_scene_with_inertial_rheology(self):
         out = self.out / "mu_i.json"
         run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "column_scene.py", out, "--aspect-ratio", "1",

@@ -4,8 +4,13 @@ front ΔL/L0 at the end and at given times, its peak speed, and the deposit's ed
 1, 2.5, 5 and 10 % of H0 (deposit.py says why the front alone cannot converge). A finished run that
 reaches the end time is measured again, not re-run, so grids can be added one at a time.
 
+`--material live_twin` runs instead the Drucker–Prager twin of the live study's cell (live_study.py: its
+φ, moduli and density, one point per grid cell, the gate at 0.05 s), so that its fronts can be set
+beside the live column's.
+
   /usr/bin/python3 front_convergence.py [OUT] [--build BUILD] [--threads N] [--cell-sizes H ...]
                                         [--aspect-ratio A] [--end T] [--times T ...] [--separation]
+                                        [--material {sand,live_twin}]
 
 Writes OUT/h<H>/ (scene, run, cost.json) and OUT/fronts.{json,md,png}.
 """
@@ -18,6 +23,7 @@ import numpy as np
 
 import column_scene
 import deposit
+import live_study
 import study
 
 HERE = Path(__file__).resolve().parent
@@ -37,17 +43,31 @@ def finished(folder, end):
 def run_grid(out, args, h):
     folder = out / f"h{h:g}"
     if not finished(folder, args.end):
-        scene = column_scene.scene(args.aspect_ratio, study.WIDTH, h, end=args.end,
-                                   material=column_scene.drucker_prager(separation=args.separation))
-        cost = study.run_scene(folder, scene, args.build, args.threads)
+        cost = study.run_scene(folder, grid_scene(args, h), args.build, args.threads)
         if cost.pop("failed"):
             sys.exit(f"front_convergence.py: h = {h:g}: mpm_solver failed, see {folder / 'run'}")
         (folder / "cost.json").write_text(json.dumps(cost) + "\n")
     return measure(folder, args, h)
 
 
+def points_per_cell(args):
+    """Per grid cell and direction: the study's sand 2, the live study's twin 1 (one cell per grid cell)."""
+    return live_study.PPC if args.material == "live_twin" else 2
+
+
+def grid_scene(args, h):
+    ppc = points_per_cell(args)
+    if args.material == "live_twin":
+        twin = live_study.twin_material(separation=args.separation)
+        return column_scene.scene(args.aspect_ratio, study.WIDTH, h, ppc, end=args.end, material=twin,
+                                  p_wave=column_scene.p_wave_modulus(twin["young"], twin["poisson"]),
+                                  gate=live_study.GATE, room=4)
+    return column_scene.scene(args.aspect_ratio, study.WIDTH, h, ppc, end=args.end,
+                              material=column_scene.drucker_prager(separation=args.separation))
+
+
 def measure(folder, args, h):
-    g = column_scene.geometry(args.aspect_ratio, study.WIDTH, h)
+    g = column_scene.geometry(args.aspect_ratio, study.WIDTH, h, points_per_cell(args))
     series = read_csv(folder / "run" / "series.csv")
     kept = series["t"] <= args.end + 1e-9
     t, front = series["t"][kept], (series["front"][kept] + g["radius"] - g["wall"] - g["L0"]) / g["L0"]
@@ -109,6 +129,8 @@ def main():
     parser.add_argument("--times", type=float, nargs="*", default=[0.3, 0.5])
     parser.add_argument("--separation", action="store_true",
                         help="sand pulled apart carries nothing until packed back (drucker_prager_law.hpp)")
+    parser.add_argument("--material", choices=["sand", "live_twin"], default="sand",
+                        help="the study's sand (φ = 30°), or the Drucker–Prager twin of the live study's cell")
     args = parser.parse_args()
     if not all(h > 0 for h in args.cell_sizes):
         parser.error(f"--cell-sizes: expected sizes > 0 [m], got {args.cell_sizes}")

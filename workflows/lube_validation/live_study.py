@@ -76,16 +76,16 @@ def cell_elasticity():
     return 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g)), statistics.mean(float(r["phi"]) for r in rows)
 
 
-def twin_material(inertial=False):
+def twin_material(inertial=False, separation=False):
     """The Drucker–Prager material of the cell: φ from μ_s, moduli and density of the cell; with
     `inertial`, also the rate dependence of the cell's μ(I) fit (μ_2, I_0, its grains' mean diameter and
-    density)."""
+    density); with `separation`, sand pulled apart carries nothing until packed back, as a cell does."""
     young, poisson, solid_fraction = cell_elasticity()
     mu_s, mu_2, i_0 = cell_mu_of_i()
     rheology = {"mu_2": mu_2, "inertial_number_0": i_0, "grain_diameter": sum(moduli.DIAMETER.values()) / 2,
                 "grain_density": moduli.MATERIAL["density"]} if inertial else None
     return column_scene.drucker_prager(math.degrees(math.asin(mu_s)), solid_fraction * moduli.MATERIAL["density"],
-                                       young, poisson, rheology)
+                                       young, poisson, rheology, separation)
 
 
 def live_material(cell_file):
