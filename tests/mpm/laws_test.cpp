@@ -246,53 +246,53 @@ TEST(DruckerPrager, ASeparatedPointCarriesNothingUntilPackedBackToTheVolumeItCam
   }
 }
 
+// One point of a separating sand (E = 1 MPa, ν = 0.3, φ = 30°, ρ0 = 1500 kg/m³), driven by in-plane
+// isotropic steps of ln J = `log_volume` over 1 ms each, with F what the caller says it is.
+struct SeparatingPoint {
+  static DruckerPragerParameters sand(const Elasticity& e) {
+    DruckerPragerParameters p{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
+    p.separation = true;
+    return p;
+  }
+  const Elasticity e{1e6, 0.3};
+  DruckerPragerLaw law{1500, sand(e)};
+  PointStress s;
+  SeparatingPoint() { law.add_point(s); }
+  void strain(double log_volume, const Mat2& F = Mat2::Identity()) {
+    const double dt = 1e-3;
+    law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt), F, s);
+  }
+};
+
 // A lone point at a front has no neighbour to constrain its motion, and its F can be sheared without
 // bound until det F is round-off, of either sign (stop 73) or, after one wild step, far from what the
 // step's strain says (stop 72). Its volume, the volume it packs back at and its signal speed must come
 // from its motion, not from F.
 TEST(DruckerPrager, ASeparatingPointCountsItsVolumeFromItsMotionNotFromF) {
-  const Elasticity e{1e6, 0.3};
-  DruckerPragerParameters sand{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
-  sand.separation = true;
-  DruckerPragerLaw law(1500, sand);
-  PointStress s;
-  law.add_point(s);
-  const double dt = 1e-3;
-  const auto isotropic = [&](double log_volume, const Mat2& F) {
-    law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt), F, s);
-  };
-  isotropic(0.01, Mat2::Identity() * 300);  // from zero stress: apart at J_s = 1, J = e^0.01 (det F: 9e4)
-  EXPECT_EQ(pressure_of(s), 0);
+  SeparatingPoint point;
+  point.strain(0.01, Mat2::Identity() * 300);  // from zero stress: apart at J_s = 1, J = e^0.01 (det F: 9e4)
+  EXPECT_EQ(pressure_of(point.s), 0);
   // c² = M_reported / ρ with ρ = ρ0 / J: the packed sand's M / ρ0.
-  EXPECT_NEAR(law.p_wave_modulus(0) * std::exp(0.01), e.p_wave_modulus(), 1e-9 * e.p_wave_modulus());
-  isotropic(-0.005, Mat2{{-1, 0}, {0, 1}});  // det F < 0: still apart at J = e^0.005
-  EXPECT_EQ(pressure_of(s), 0);
-  isotropic(-0.01, Mat2{{-1, 0}, {0, 1}});  // packed back past J_s = 1 by 0.005
-  EXPECT_NEAR(pressure_of(s), 0.005 * e.bulk_modulus(), 1e-6 * e.bulk_modulus());
-  EXPECT_TRUE(std::isfinite(s.in_plane.norm()));
+  const double m = point.e.p_wave_modulus();
+  EXPECT_NEAR(point.law.p_wave_modulus(0) * std::exp(0.01), m, 1e-9 * m);
+  point.strain(-0.005, Mat2{{-1, 0}, {0, 1}});  // det F < 0: still apart at J = e^0.005
+  EXPECT_EQ(pressure_of(point.s), 0);
+  point.strain(-0.01, Mat2{{-1, 0}, {0, 1}});  // packed back past J_s = 1 by 0.005
+  EXPECT_NEAR(pressure_of(point.s), 0.005 * point.e.bulk_modulus(), 1e-6 * point.e.bulk_modulus());
+  EXPECT_TRUE(std::isfinite(point.s.in_plane.norm()));
 }
 
 // A point at rest comes apart from zero stress, so the volume it came apart at is its volume to the
 // bit; the next step can bring it back to exactly that volume (the live twin's column at L0/h = 20
 // stopped there: "increment: expected a positive time step").
 TEST(DruckerPrager, APointBackAtExactlyTheVolumeItCameApartAtIsStillApart) {
-  const Elasticity e{1e6, 0.3};
-  DruckerPragerParameters sand{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
-  sand.separation = true;
-  DruckerPragerLaw law(1500, sand);
-  PointStress s;
-  law.add_point(s);
-  const double dt = 1e-3;
-  const auto isotropic = [&](double log_volume) {
-    law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt),
-               Mat2::Identity(), s);
-  };
-  isotropic(1e-3);  // from zero stress at J = 1: apart, J_s = 1 exactly
-  EXPECT_EQ(pressure_of(s), 0);
+  SeparatingPoint point;
+  point.strain(1e-3);  // from zero stress at J = 1: apart, J_s = 1 exactly
+  EXPECT_EQ(pressure_of(point.s), 0);
   ASSERT_EQ(std::exp(1e-3) * std::exp(-1e-3), 1.0) << "the case needs e^a e^-a = 1 to the bit";
-  EXPECT_NO_THROW(isotropic(-1e-3));
-  EXPECT_EQ(pressure_of(s), 0);
-  EXPECT_EQ(law.p_wave_modulus(0), e.p_wave_modulus());
+  EXPECT_NO_THROW(point.strain(-1e-3));
+  EXPECT_EQ(pressure_of(point.s), 0);
+  EXPECT_EQ(point.law.p_wave_modulus(0), point.e.p_wave_modulus());
 }
 
 TEST(DruckerPrager, OnlyACohesionlessMaterialSeparates) {
