@@ -85,7 +85,7 @@ StepLimitCause step_limit_cause(const Solver& solver) {
     std::ostringstream what;
     what << "it is set by seed Eq. 4 (q_h d_min / |dh/dt|, the law's own limit) of material point " << mp.id << " (law "
          << solver.law(mp.law).name() << ") at (" << mp.position.x() << ", " << mp.position.y() << "), |L| = "
-         << mp.velocity_gradient.norm() << " 1/s, det F = " << mp.deformation_gradient.determinant()
+         << mp.velocity_gradient.norm() << " 1/s, V/V0 = " << mp.volume / mp.initial_volume
          << "; a DEM cell whose grains still touch, stretched far beyond its template or deformed very fast, sets it";
     return {what.str(), "raise the material's q_h", true};
   }
@@ -121,6 +121,7 @@ class StepFallWatch {
   static constexpr double kFirstReport = 100;
   // Whether this stable step is a fall to report.
   bool report(double stable) {
+    if (!(stable > 0)) return false;
     largest_ = std::max(largest_, stable);
     if (!(stable * next_report_ <= largest_)) return false;
     while (stable * next_report_ <= largest_) next_report_ *= 10;

@@ -27,7 +27,7 @@ struct Scene {
   double end_time = 0;
   std::optional<RestCriterion> stop_at_rest;
   // time.min_time_step [s]: a run whose stable step falls below it stops, naming the criterion and
-  // the point that set it, with a restart written (0: off; a hundredfold fall is then only reported).
+  // the point that set it, with a restart written (0: off). A hundredfold fall is reported either way.
   double min_time_step = 0;
   double output_interval = 0;  // VTU snapshots
   double series_interval = 0;  // rows of the CSV time series and of the tracked points
