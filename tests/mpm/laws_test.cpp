@@ -208,12 +208,16 @@ TEST(DruckerPrager, TensionCutOffCapsTheMeanStress) {
   EXPECT_THROW(DruckerPragerLaw(1000, DruckerPragerParameters{{1e6, 0.3}, 0.5, 1000, 1e6, std::nullopt}), std::invalid_argument);
 }
 
-// Drives a point by an in-plane isotropic strain of ln J = `log_volume` in one step, from volume
-// ratio J = exp(`from`) (plane strain: the pressure changes by -K ln J while elastic).
-void strain_isotropically(DruckerPragerLaw& law, double from, double log_volume, PointStress& s) {
+// An in-plane isotropic strain of ln J = `log_volume` in one step of 1 ms (plane strain: the pressure
+// changes by -K ln J while elastic).
+KinematicIncrement isotropic_step(double log_volume) {
   const double dt = 1e-3;
-  const Mat2 L = Mat2::Identity() * log_volume / (2 * dt);
-  law.update(0, KinematicIncrement::of_velocity_gradient(L, dt), Mat2::Identity() * std::exp((from + log_volume) / 2), s);
+  return KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt);
+}
+
+// Drives a point by isotropic_step(log_volume) from volume ratio J = exp(`from`).
+void strain_isotropically(DruckerPragerLaw& law, double from, double log_volume, PointStress& s) {
+  law.update(0, isotropic_step(log_volume), Mat2::Identity() * std::exp((from + log_volume) / 2), s);
 }
 
 TEST(DruckerPrager, ASeparatedPointCarriesNothingUntilPackedBackToTheVolumeItCameApartAt) {
@@ -246,8 +250,8 @@ TEST(DruckerPrager, ASeparatedPointCarriesNothingUntilPackedBackToTheVolumeItCam
   }
 }
 
-// One point of a separating sand (E = 1 MPa, ν = 0.3, φ = 30°, ρ0 = 1500 kg/m³), driven by in-plane
-// isotropic steps of ln J = `log_volume` over 1 ms each, with F what the caller says it is.
+// One point of a separating sand (E = 1 MPa, ν = 0.3, φ = 30°, ρ0 = 1500 kg/m³), driven by
+// isotropic_step, with F what the caller says it is.
 struct SeparatingPoint {
   static DruckerPragerParameters sand(const Elasticity& e) {
     DruckerPragerParameters p{e, 30 * std::numbers::pi / 180, 0, 0, std::nullopt};
@@ -258,10 +262,7 @@ struct SeparatingPoint {
   DruckerPragerLaw law{1500, sand(e)};
   PointStress s;
   SeparatingPoint() { law.add_point(s); }
-  void strain(double log_volume, const Mat2& F = Mat2::Identity()) {
-    const double dt = 1e-3;
-    law.update(0, KinematicIncrement::of_velocity_gradient(Mat2::Identity() * log_volume / (2 * dt), dt), F, s);
-  }
+  void strain(double log_volume, const Mat2& F = Mat2::Identity()) { law.update(0, isotropic_step(log_volume), F, s); }
 };
 
 // A lone point at a front has no neighbour to constrain its motion, and its F can be sheared without
