@@ -103,12 +103,22 @@ std::string step_fell_to(const Solver& solver, double stable) {
   return msg.str();
 }
 
-// What set a step below time.min_time_step, and what to change.
+// A step no run can take: not positive (a signal speed that overflowed, a point whose mass underflowed)
+// or not a number, or below time.min_time_step.
+bool step_collapsed(double stable, double floor) { return !(stable > 0) || stable < floor; }
+
+// What set such a step, and what to change.
 std::string time_step_collapse(const Solver& solver, double stable, double floor) {
   const StepLimitCause cause = step_limit_cause(solver);
+  const bool below_floor = stable > 0;
   std::ostringstream msg;
-  msg << step_fell_to(solver, stable) << ", below time.min_time_step = " << floor << " s: " << cause.what << ": "
-      << cause.remedy << (cause.law ? ", or lower time.min_time_step to go on at this step" : "");
+  msg << step_fell_to(solver, stable);
+  if (below_floor)
+    msg << ", below time.min_time_step = " << floor << " s";
+  else
+    msg << ", which no step can advance";
+  msg << ": " << cause.what << ": " << cause.remedy
+      << (cause.law && below_floor ? ", or lower time.min_time_step to go on at this step" : "");
   return msg.str();
 }
 
@@ -269,7 +279,7 @@ nlohmann::json run_scene(const RunOptions& options) {
     // Land exactly on the next output, row or end time.
     const double horizon = std::min({snapshots_due.next_time(), rows.next_time(), scene.end_time});
     const double stable = solver.stable_time_step();
-    if (stable < scene.min_time_step) {
+    if (step_collapsed(stable, scene.min_time_step)) {
       const std::string cause = time_step_collapse(solver, stable, scene.min_time_step);
       write_restart();
       throw std::runtime_error(cause + "; restart written to " + restart.string());

@@ -1,6 +1,7 @@
 // time.min_time_step: a run whose stable step collapses stops with a message naming the criterion,
 // the point and what to change, and leaves a restart, instead of crawling on at a vanishing step;
-// without a floor, a step that falls a hundredfold below the run's largest is reported and the run goes on.
+// without a floor, a step that falls a hundredfold below the run's largest is reported and the run goes on,
+// and a step of zero stops the run as a collapse does.
 // The case: one live point (20-sphere bonded cell) in a domain stretched homogeneously at 200 /s.
 // Seed Eq. 4 bounds its step by q_h d_min / |ḣ|: about 0.01 × 3.4e-4 m / (200 /s × 1.4 mm) ≈ 1e-5 s,
 // below a floor of 1e-4 s, while the same run without the floor goes on.
@@ -94,6 +95,29 @@ TEST(MinTimeStep, AStepFallenAHundredfoldIsReportedNamingItsCriterionAndTheRunGo
   const nlohmann::json slowed = run_expanding_elastic(dir, "slowed", 0.012);
   EXPECT_GT(slowed["time_step"]["max"].get<double>() / slowed["time_step"]["min"].get<double>(), 5);
   EXPECT_TRUE(slowed["time_step"]["falls"].empty()) << slowed["time_step"]["falls"].dump();
+}
+
+// A material so light (1e-320 kg/m³, a subnormal number) that its wave speed sqrt(M / ρ) overflows:
+// the CFL step is 0 from the first step, which no run can take, with or without a floor.
+TEST(MinTimeStep, AStepOfZeroStopsTheRunNamingItsCriterion) {
+  const TemporaryDirectory dir("gb_zero_step");
+  app::RunOptions o;
+  o.scene = dir.write("weightless.json", R"({"grid": {"origin": [0, 0], "cell_size": 0.1, "cells": [6, 6]},
+    "time": {"end": 0.01, "output_interval": 0.005, "max_time_step": 1e-3},
+    "materials": [{"name": "ghost", "law": "elastic", "density": 1e-320, "young": 1e6, "poisson": 0.3}],
+    "regions": [{"material": "ghost", "rectangle": {"min": [0.2, 0.2], "max": [0.4, 0.4]}, "points_per_cell": 1}]})");
+  o.out = dir.path() / "weightless";
+  o.progress = false;
+  try {
+    app::run_scene(o);
+    FAIL() << "ran at a step of zero";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    std::printf("%s\n", what.c_str());
+    for (const char* part : {"the time step fell to 0 s at t = 0 s", "which no step can advance", "CFL criterion",
+                             "restart written to"})
+      EXPECT_NE(what.find(part), std::string::npos) << part << " not in: " << what;
+  }
 }
 
 TEST(MinTimeStep, AFloorAboveTheCapIsRefused) {
