@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -48,6 +49,27 @@ std::size_t LibraryLaw::add_point(PointStress& initial_stress) {
   return points_.size() - 1;
 }
 
+namespace {
+
+// The total-strain key needs the polar decomposition of F. A lone point at a front can be sheared
+// until det F is round-off of either sign (|F| ~ 1e8, stop 73): no library path reaches it, and a
+// warm start has no deformation to drive a cell to. Only a cell rebuilt from the point's increments
+// answers it.
+bool keyable(const Mat2& F) { return F.allFinite() && F.determinant() > 0; }
+
+std::string unkeyable(const Mat2& F, const std::string& law) {
+  std::ostringstream msg;
+  msg << "its deformation gradient F = [[" << F(0, 0) << ", " << F(0, 1) << "], [" << F(1, 0) << ", " << F(1, 1)
+      << "]] has det F = " << F.determinant()
+      << ": sheared until det F is round-off, it has no total strain the library's key can place"
+      << (law == "hybrid" ? " and no deformation a warm start can drive a cell to" : "")
+      << "; use the hybrid law with fallback.start \"replay\", which rebuilds the point's cell from its increments, "
+         "or the surrogate law, which keys a point by its state";
+  return msg.str();
+}
+
+}  // namespace
+
 lookup::LookupAnswer LibraryLaw::ask(const Point& p, const Mat2& F, const Mat2& L) const {
   lookup::LookupState state;
   state.F = embed_plane_strain(F);
@@ -62,7 +84,7 @@ void LibraryLaw::update(std::size_t slot, const KinematicIncrement& increment, c
 
   if (p.cell) {
     advance_live(p, increment, stress);
-    if (settings_.return_after > 0) {
+    if (settings_.return_after > 0 && keyable(F)) {
       const lookup::LookupAnswer answer = ask(p, F, increment.L);
       p.steps_inside = answer.hit ? p.steps_inside + 1 : 0;
       if (p.steps_inside >= settings_.return_after) {
@@ -76,7 +98,9 @@ void LibraryLaw::update(std::size_t slot, const KinematicIncrement& increment, c
     return;
   }
 
-  const lookup::LookupAnswer answer = ask(p, F, increment.L);
+  const bool placed = keyable(F);
+  if (!placed && settings_.fallback != Fallback::replay) throw std::runtime_error(unkeyable(F, name()));
+  const lookup::LookupAnswer answer = placed ? ask(p, F, increment.L) : lookup::LookupAnswer{};
   if (!answer.hit && settings_.fallback != Fallback::none) {
     ++p.counters.misses;
     go_live(slot, p, increment.F.inverse() * F, answer, increment.dt);

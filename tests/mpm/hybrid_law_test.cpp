@@ -3,6 +3,8 @@
 // own increments, which reproduces a live point exactly).
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "tests/mpm/coupling_test_util.hpp"
@@ -150,6 +152,47 @@ TEST_F(MissingPoint, ReplayRebuildsTheCellALivePointWouldOwn) {
   EXPECT_EQ(cell->time(), reference.cell(0).time());
   EXPECT_EQ(cell->cell_matrix(), reference.cell(0).cell_matrix());
   EXPECT_EQ(cell->measures().stress, reference.cell(0).measures().stress);
+}
+
+// A lone front point can be sheared until det F is round-off of either sign (stop 73: |F| ~ 1e8). The
+// total-strain key has no polar decomposition of such an F: a live point stays live, a point rebuilt
+// by replay goes live, and a point that a warm start or the cache would answer from F stops the run
+// with the remedy.
+TEST_F(MissingPoint, APointWhoseFIsInvertedByRoundOffIsAnsweredByALiveCellOrStopsWithTheRemedy) {
+  const Mat2 inverted{{1.4e8, 1.4e8}, {-1e-8, -1.2e-8}};  // det F = -0.28
+  ASSERT_LT(inverted.determinant(), 0);
+  const KinematicIncrement step = KinematicIncrement::of_deformation(shear_, kDt);
+  PointStress s;
+
+  LibraryLawSettings returning = coupling_settings(Fallback::warm_start, false);
+  returning.return_after = 1;
+  auto live = library_law(dir_, id_, returning);
+  drive(*live);
+  ASSERT_NE(live->live_cell(0), nullptr) << "the set-up must turn the point live";
+  live->update(0, step, inverted, s);
+  EXPECT_NE(live->live_cell(0), nullptr);
+  EXPECT_EQ(live->source(0), StressSource::live);
+  EXPECT_TRUE(s.in_plane.allFinite());
+
+  auto replayed = library_law(dir_, id_, coupling_settings(Fallback::replay, false));
+  replayed->add_point(s);
+  replayed->update(0, step, inverted, s);
+  EXPECT_EQ(replayed->source(0), StressSource::live);
+  EXPECT_EQ(replayed->counters().misses, 1u);
+
+  for (const Fallback fallback : {Fallback::warm_start, Fallback::none}) {
+    auto law = library_law(dir_, id_, coupling_settings(fallback, false));
+    law->add_point(s);
+    try {
+      law->update(0, step, inverted, s);
+      FAIL() << law->name() << " answered a point whose F has no polar decomposition";
+    } catch (const std::runtime_error& e) {
+      const std::string what = e.what();
+      for (const char* part : {"det F = -0.28", "no total strain the library's key can place", "\"replay\"",
+                               "the surrogate law"})
+        EXPECT_NE(what.find(part), std::string::npos) << part << " not in: " << what;
+    }
+  }
 }
 
 // Restart files of a LibraryLaw point driven directly (outside the MPM step, so its increments are
