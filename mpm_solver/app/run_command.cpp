@@ -9,10 +9,10 @@
 #include <fstream>
 #include <limits>
 #include <optional>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "mpm_solver/app/time_step_watch.hpp"
 #include "mpm_solver/core/diagnostics.hpp"
 #include "mpm_solver/io/audit_trail.hpp"
 #include "mpm_solver/io/coupling_report.hpp"
@@ -70,79 +70,6 @@ io::Scene load_scene(const RunOptions& o, const std::filesystem::path& file, con
                              file.string() + ")");
   }
 }
-
-// Why the stable step is what it is: the criterion that sets it (and where the law's own limit does,
-// the point), and what to change. Collective (law_limiting_point).
-struct StepLimitCause {
-  std::string what, remedy;
-  bool law = false;
-};
-
-StepLimitCause step_limit_cause(const Solver& solver) {
-  const TimeStepLimits limits = solver.time_step_limits();
-  if (limits.law <= limits.minimum()) {
-    const MaterialPoint& mp = solver.law_limiting_point();
-    std::ostringstream what;
-    what << "it is set by seed Eq. 4 (q_h d_min / |dh/dt|, the law's own limit) of material point " << mp.id << " (law "
-         << solver.law(mp.law).name() << ") at (" << mp.position.x() << ", " << mp.position.y() << "), |L| = "
-         << mp.velocity_gradient.norm() << " 1/s, V/V0 = " << mp.volume / mp.initial_volume
-         << "; a DEM cell whose grains still touch, stretched far beyond its template or deformed very fast, sets it";
-    return {what.str(), "raise the material's q_h", true};
-  }
-  if (limits.wave <= limits.minimum())
-    return {"it is set by the CFL criterion (a point's wave speed plus its speed over the grid cell)",
-            "look for a point whose density m/V has collapsed (an expanded, stress-free point) or whose speed is not "
-            "physical"};
-  return {"it is set by the obstacles' contact springs (contact_factor sqrt(m_min / k_n))",
-          "lower the obstacles' k_n or look for a point whose mass is tiny"};
-}
-
-std::string step_fell_to(const Solver& solver, double stable) {
-  std::ostringstream msg;
-  msg << "the time step fell to " << stable << " s at t = " << solver.time() << " s (step " << solver.steps() << ")";
-  return msg.str();
-}
-
-// A step no run can take: not positive (a signal speed that overflowed, a point whose mass underflowed)
-// or not a number, or below time.min_time_step.
-bool step_collapsed(double stable, double floor) { return !(stable > 0) || stable < floor; }
-
-// What set such a step, and what to change.
-std::string time_step_collapse(const Solver& solver, double stable, double floor) {
-  const StepLimitCause cause = step_limit_cause(solver);
-  const bool below_floor = stable > 0;
-  std::ostringstream msg;
-  msg << step_fell_to(solver, stable);
-  if (below_floor)
-    msg << ", below time.min_time_step = " << floor << " s";
-  else
-    msg << ", which no step can advance";
-  msg << ": " << cause.what << ": " << cause.remedy
-      << (cause.law && below_floor ? ", or lower time.min_time_step to go on at this step" : "");
-  return msg.str();
-}
-
-// Without time.min_time_step (0 by default) a collapsing step does not stop a run, it only slows it
-// (stop 72: one lone front point took a run's step from 5.6 µs to 18 ns, and only the ETA showed it).
-// A step that falls a hundredfold below the run's largest is reported, and again at every further
-// tenfold fall; the run goes on.
-class StepFallWatch {
- public:
-  static constexpr double kFirstReport = 100;
-  // Whether this stable step is a fall to report.
-  bool report(double stable) {
-    if (!(stable > 0)) return false;
-    largest_ = std::max(largest_, stable);
-    if (!(stable * next_report_ <= largest_)) return false;
-    while (stable * next_report_ <= largest_) next_report_ *= 10;
-    return true;
-  }
-  double largest() const { return largest_; }
-
- private:
-  double largest_ = 0;
-  double next_report_ = kFirstReport;
-};
 
 // What each rank's costly points took, and what each of them cost (collective): the
 // inputs of the MPI scaling model (workflows/mpi_scaling). Per point: seconds of its constitutive
@@ -284,14 +211,9 @@ nlohmann::json run_scene(const RunOptions& options) {
       write_restart();
       throw std::runtime_error(cause + "; restart written to " + restart.string());
     }
-    if (step_falls.report(stable)) {
-      const StepLimitCause cause = step_limit_cause(solver);
-      std::ostringstream report;
-      report << step_fell_to(solver, stable) << ", 1/" << std::lround(step_falls.largest() / stable)
-             << " of the run's largest (" << step_falls.largest() << " s): " << cause.what << ": " << cause.remedy
-             << "; time.min_time_step stops a run at such a step";
-      step_fall_reports.push_back(report.str());
-      if (root) std::fprintf(stderr, "%smpm_solver: warning: %s\n", options.progress ? "\n" : "", report.str().c_str());
+    if (const std::optional<std::string> fall = step_falls.report(solver, stable)) {
+      step_fall_reports.push_back(*fall);
+      if (root) std::fprintf(stderr, "%smpm_solver: warning: %s\n", options.progress ? "\n" : "", fall->c_str());
     }
     const double dt = std::min(stable, horizon - solver.time());
     solver.step(dt);
