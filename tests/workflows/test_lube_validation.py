@@ -86,6 +86,13 @@ class LubeValidationTest(WorkflowTest):
         # of one point per cell (h / 2) is the one added to the outermost centre.
         self.assertAlmostEqual(result["series"]["front"][0], 0, delta=1e-9)
         self.assertGreater(result["front"], 0)
+        # At the sand's two points per cell, the point radius is h / 4, and the front starts at 0 again.
+        out = self.out / "twin_ppc2"
+        run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "front_convergence.py", out, "--build", BUILD,
+             "--cell-sizes", "0.04", "--end", "0.06", "--times", "0.05", "--material", "live_twin",
+             "--points-per-cell", "2"])
+        self.assertEqual(json.loads((out / "h0.04" / "scene.json").read_text())["regions"][0]["points_per_cell"], 2)
+        self.assertAlmostEqual(json.loads((out / "fronts.json").read_text())[0]["series"]["front"][0], 0, delta=1e-9)
 
     def test_scene_with_inertial_rheology(self):
         out = self.out / "mu_i.json"

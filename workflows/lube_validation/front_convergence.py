@@ -6,11 +6,12 @@ reaches the end time is measured again, not re-run, so grids can be added one at
 
 `--material live_twin` runs instead the Drucker–Prager twin of the live study's cell (live_study.py: its
 φ, moduli and density, one point per grid cell, the gate at 0.05 s), so that its fronts can be set
-beside the live column's.
+beside the live column's; `--points-per-cell 2` runs it at the sand's two points per cell and
+direction, to tell what one point per cell does to the front from what the material does.
 
   /usr/bin/python3 front_convergence.py [OUT] [--build BUILD] [--threads N] [--cell-sizes H ...]
                                         [--aspect-ratio A] [--end T] [--times T ...] [--separation]
-                                        [--material {sand,live_twin}]
+                                        [--material {sand,live_twin}] [--points-per-cell N]
 
 Writes OUT/h<H>/ (scene, run, cost.json) and OUT/fronts.{json,md,png}.
 """
@@ -51,7 +52,10 @@ def run_grid(out, args, h):
 
 
 def points_per_cell(args):
-    """Per grid cell and direction: the study's sand 2, the live study's twin 1 (one cell per grid cell)."""
+    """Per grid cell and direction: --points-per-cell, or the material's own: the study's sand 2, the live
+    study's twin 1 (one cell per grid cell)."""
+    if args.points_per_cell:
+        return args.points_per_cell
     return live_study.PPC if args.material == "live_twin" else 2
 
 
@@ -131,7 +135,11 @@ def main():
                         help="sand pulled apart carries nothing until packed back (drucker_prager_law.hpp)")
     parser.add_argument("--material", choices=["sand", "live_twin"], default="sand",
                         help="the study's sand (φ = 30°), or the Drucker–Prager twin of the live study's cell")
+    parser.add_argument("--points-per-cell", type=int,
+                        help="material points per grid cell and direction (default: the sand's 2, the twin's 1)")
     args = parser.parse_args()
+    if args.points_per_cell is not None and args.points_per_cell < 1:
+        parser.error(f"--points-per-cell: expected an integer >= 1, got {args.points_per_cell}")
     if not all(h > 0 for h in args.cell_sizes):
         parser.error(f"--cell-sizes: expected sizes > 0 [m], got {args.cell_sizes}")
     if not all(0 < s <= args.end for s in args.times):
