@@ -24,7 +24,6 @@ class StepFallWatch {
   // The report of a step that fell a hundredfold below the run's largest, and of every further
   // tenfold fall; nothing otherwise. Collective over ranks (every rank sees the same steps).
   std::optional<std::string> report(const Solver& solver, double stable);
-  double largest() const { return largest_; }
 
  private:
   double largest_ = 0;
