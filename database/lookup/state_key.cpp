@@ -6,8 +6,10 @@
 
 namespace grainbank::lookup {
 
+bool has_polar_decomposition(const dem::Mat3& F) { return F.allFinite() && F.determinant() > 0; }
+
 PolarDecomposition polar_decomposition(const dem::Mat3& F) {
-  if (!F.allFinite() || !(F.determinant() > 0))
+  if (!has_polar_decomposition(F))
     throw std::invalid_argument("state key: deformation gradient F must be finite with det F > 0");
   // FᵀF = V Λ Vᵀ: U = V Λ^½ Vᵀ and ln U = V ½ln Λ Vᵀ exactly, without iterating on F.
   const Eigen::SelfAdjointEigenSolver<dem::Mat3> eigen(F.transpose() * F);

@@ -20,7 +20,10 @@ struct PolarDecomposition {
   dem::Mat3 hencky;  // ln U = ½ ln(FᵀF)
 };
 
-// Throws std::invalid_argument unless F is finite with det F > 0.
+// Whether F has a polar decomposition here: finite, with det F > 0.
+bool has_polar_decomposition(const dem::Mat3& F);
+
+// Throws std::invalid_argument unless has_polar_decomposition(F).
 PolarDecomposition polar_decomposition(const dem::Mat3& F);
 
 db::StateKey state_key(const PolarDecomposition& polar, const dem::Mat3& L, double damage, const db::KeyScales& scales);

@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "database/lookup/state_key.hpp"
 #include "dem_sampler/cell/cell_state_bytes.hpp"
 
 namespace grainbank::mpm {
@@ -55,14 +56,14 @@ namespace {
 // until det F is round-off of either sign (|F| ~ 1e8, stop 73): no library path reaches it, and a
 // warm start has no deformation to drive a cell to. Only a cell rebuilt from the point's increments
 // answers it.
-bool keyable(const Mat2& F) { return F.allFinite() && F.determinant() > 0; }
+bool keyable(const Mat2& F) { return lookup::has_polar_decomposition(embed_plane_strain(F)); }
 
-std::string unkeyable(const Mat2& F, const std::string& law) {
+std::string unkeyable(const Mat2& F, bool warm_start) {
   std::ostringstream msg;
   msg << "its deformation gradient F = [[" << F(0, 0) << ", " << F(0, 1) << "], [" << F(1, 0) << ", " << F(1, 1)
       << "]] has det F = " << F.determinant()
       << ": sheared until det F is round-off, it has no total strain the library's key can place"
-      << (law == "hybrid" ? " and no deformation a warm start can drive a cell to" : "")
+      << (warm_start ? " and no deformation a warm start can drive a cell to" : "")
       << "; use the hybrid law with fallback.start \"replay\", which rebuilds the point's cell from its increments, "
          "or the surrogate law, which keys a point by its state";
   return msg.str();
@@ -99,7 +100,7 @@ void LibraryLaw::update(std::size_t slot, const KinematicIncrement& increment, c
   }
 
   const bool placed = keyable(F);
-  if (!placed && settings_.fallback != Fallback::replay) throw std::runtime_error(unkeyable(F, name()));
+  if (!placed && settings_.fallback != Fallback::replay) throw std::runtime_error(unkeyable(F, settings_.fallback == Fallback::warm_start));
   const lookup::LookupAnswer answer = placed ? ask(p, F, increment.L) : lookup::LookupAnswer{};
   if (!answer.hit && settings_.fallback != Fallback::none) {
     ++p.counters.misses;
