@@ -19,6 +19,7 @@
 #include "mpm_solver/io/restart.hpp"
 #include "mpm_solver/io/scene_input.hpp"
 #include "common/duration_text.hpp"
+#include "common/recent_pace_eta.hpp"
 #include "common/json_input.hpp"
 #include "mpm_solver/io/series_csv.hpp"
 #include "mpm_solver/io/tracked_cells.hpp"
@@ -191,7 +192,6 @@ nlohmann::json run_scene(const RunOptions& options) {
   };
 
   const Clock::time_point loop_start = Clock::now();
-  const double start_time = solver.time();
   snapshot();
   record(0);
   Schedule snapshots_due{scene.output_interval, next_after(solver.time(), scene.output_interval)};
@@ -200,6 +200,10 @@ nlohmann::json run_scene(const RunOptions& options) {
   StepFallWatch step_falls;
   std::vector<std::string> step_fall_reports;
   Clock::time_point last_report = loop_start;
+  // The pace of the last minute: a column answered by a library while it stands costs far less per
+  // simulated second than after its gate opens.
+  common::RecentPaceEta eta(60);
+  eta.record(0, solver.time() / scene.end_time);
   // A signal that reaches any rank stops all of them after the same step.
   const auto stop_requested = [&] { return ranks->any(options.stop && options.stop->load()); };
   while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !stop_requested()) {
@@ -223,11 +227,10 @@ nlohmann::json run_scene(const RunOptions& options) {
     if (snapshots_due.due(solver.time())) snapshot(), ++snapshots_due.next;
     if (root && options.progress && seconds_since(last_report) > 2) {
       last_report = Clock::now();
-      // The ETA extrapolates this run's own progress: a resumed run started at start_time, not at 0.
-      const double done = solver.time() / scene.end_time, elapsed = seconds_since(loop_start);
-      const double resumed_done = (solver.time() - start_time) / (scene.end_time - start_time);
+      const double done = solver.time() / scene.end_time;
+      eta.record(seconds_since(loop_start), done);
       std::fprintf(stderr, "\rt = %.4g s (%.1f%%), step %ld, dt = %.3g s, ETA %s   ", solver.time(), 100 * done,
-                   solver.steps(), dt, common::duration_text(elapsed * (1 - resumed_done) / resumed_done).c_str());
+                   solver.steps(), dt, common::duration_text(eta.eta()).c_str());
     }
   }
   if (root && options.progress) std::fprintf(stderr, "\n");
