@@ -5,8 +5,13 @@ study's sand, which flows without dilatancy and is weaker still (Radenkovic: it 
 associated material of its strength); at twice the bound both stand."""
 import json
 import math
+import sys
+import unittest
 
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
+
+sys.path.insert(0, str(WORKFLOWS / "cohesive_column"))
+import live_threshold  # noqa: E402
 
 
 class CohesiveColumnTest(WorkflowTest):
@@ -90,6 +95,12 @@ class LiveThresholdTest(WorkflowTest):
         self.assertEqual(sorted(verdict["threshold_over_critical"]), ["local, H0/h = 4", "ℓ = 0.1 m, H0/h = 4"])
         self.assert_png(self.out / "live" / "live_threshold.png")
 
+    def test_refuses_points_per_cell_below_one_before_anything_runs(self):
+        with self.assertRaises(AssertionError) as refused:
+            self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--points-per-cell", "0")
+        self.assertIn("--points-per-cell: expected an integer >= 1, got 0", str(refused.exception))
+        self.assertFalse((self.out / "live").exists())
+
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):
         other = WORKFLOWS / "demo" / "cell_soft_snow_250.json"
         prediction = {"cell": str(other), "cell_json": json.loads(other.read_text()), "q_u": 1000.0,
@@ -104,3 +115,19 @@ class LiveThresholdTest(WorkflowTest):
             self.threshold(self.CELL, self.out / "unpeaked.json", "--heights", "0.05")
         self.assertIn(f"{self.out / 'unpeaked.json'}: field 'peak_reached' is false", str(refused.exception))
         self.assertFalse((self.out / "live" / "runs").exists(), "nothing is run on a prediction refused")
+
+
+class ThresholdResolutionTest(unittest.TestCase):
+    """live_threshold.py --points-per-cell: the scene seeds that many points (cells) per grid cell and
+    direction, and runs of another number of points per cell are bracketed apart."""
+
+    def test_the_scene_seeds_the_points_per_cell_and_the_brackets_keep_them_apart(self):
+        scene = json.loads(live_threshold.SCENE.read_text())
+        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 2)
+        self.assertEqual(settings["/regions/0/points_per_cell"], 2)
+        row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None}
+        one, two = {**row, "stands": True}, {**row, "points_per_cell": 2, "stands": False}
+        self.assertEqual(live_threshold.resolution(one), "local, H0/h = 6")  # rows from before the option
+        self.assertEqual(live_threshold.resolution(two), "local, H0/h = 6, 2 points per cell")
+        self.assertEqual(live_threshold.threshold_brackets([one, two]),
+                         {"local, H0/h = 6": (0.3, None), "local, H0/h = 6, 2 points per cell": (None, 0.3)})

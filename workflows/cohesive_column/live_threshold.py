@@ -28,6 +28,7 @@ verdict otherwise.
   /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
                                      [--heights 0.05 0.1 0.15 0.2]
                                      [--width 0.15] [--cell-size 0.0125] [--nonlocal-length ℓ]
+                                     [--points-per-cell 1]
                                      [--cell CELL.json]
                                      [--build BUILD] [--threads N] [--watch 4]
 
@@ -55,11 +56,12 @@ MIN_WATCH = 0.3  # [s] after the gate, at least
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 
-def column_settings(scene, height, width, h, nonlocal_length):
+def column_settings(scene, height, width, h, nonlocal_length, points_per_cell):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
-    `h` with room for a runout of three times the larger of the two and a floor under all of it, the
-    gate's removal time), regularized over `nonlocal_length` unless it is None. The grid's lines pass
-    through the column's base and back wall, so that its points sit whole cells' halves off them."""
+    `h`, `points_per_cell` points (cells) per grid cell and direction, with room for a runout of three
+    times the larger of the two and a floor under all of it, the gate's removal time), regularized over
+    `nonlocal_length` unless it is None. The grid's lines pass through the column's base and back wall,
+    so that its points sit whole cells' halves off them."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
     (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
@@ -68,18 +70,19 @@ def column_settings(scene, height, width, h, nonlocal_length):
     cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
     return {**scenes.regularization_settings(nonlocal_length)[0],
             "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
-            "/regions/0/rectangle/max": [face, y0 + height],
+            "/regions/0/rectangle/max": [face, y0 + height], "/regions/0/points_per_cell": points_per_cell,
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
             "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
 
 
-def run_height(build, out, cell, height, width, h, nonlocal_length, watch, threads):
+def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, watch, threads):
     """One live column of height `height` [m]; returns its row of the table."""
-    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length)
+    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length, points_per_cell)
     end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
-    name = f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
+    name = (f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
+            + (f"_ppc{points_per_cell}" if points_per_cell != 1 else ""))
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -91,7 +94,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, watch, threa
     first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
-           "nonlocal_length": nonlocal_length, "end": float(series["t"][-1]),
+           "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
@@ -115,15 +118,25 @@ def regularization(row):
     return "local" if length is None else f"ℓ = {length:g} m"
 
 
+def points_per_cell(row):
+    return row.get("points_per_cell", 1)  # runs from before the option had one
+
+
+def resolution(row):
+    """A run's regularization and resolution, as the brackets name them: "local, H0/h = 12", with ", 2
+    points per cell" where it had more than one."""
+    label = f"{regularization(row)}, H0/h = {round(row['height'] / row['cell_size'])}"
+    return label + (f", {points_per_cell(row)} points per cell" if points_per_cell(row) != 1 else "")
+
+
 def threshold_brackets(rows):
-    """{"<regularization>, H0/h = n": (highest height that stood, lowest that fell)} over the runs of
-    each regularization and resolution, a side None where no run of that group stood (fell)."""
-    groups = sorted({(regularization(r), round(r["height"] / r["cell_size"])) for r in rows})
+    """{resolution: (highest height that stood, lowest that fell)} over the runs of each regularization
+    and resolution, a side None where no run of that group stood (fell)."""
     found = {}
-    for label, n in groups:
-        group = [r for r in rows if regularization(r) == label and round(r["height"] / r["cell_size"]) == n]
-        found[f"{label}, H0/h = {n}"] = (max((r["height"] for r in group if r["stands"] is True), default=None),
-                                         min((r["height"] for r in group if r["stands"] is False), default=None))
+    for label in sorted({resolution(r) for r in rows}):
+        group = [r for r in rows if resolution(r) == label]
+        found[label] = (max((r["height"] for r in group if r["stands"] is True), default=None),
+                        min((r["height"] for r in group if r["stands"] is False), default=None))
     return found
 
 
@@ -170,11 +183,11 @@ def report(rows, critical, verdicts, cell):
     """live_threshold.md: the runs against each prediction, then each prediction's verdict."""
     lines = [f"Cell {cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
              "it may stand): " + "; ".join(f"{name}: {value:.3f} m" for name, value in critical.items()), "",
-             "| H0 [m] | L0 [m] | h [m] | regularization | watched to t [s] | front after the gate / L0 | "
+             "| H0 [m] | L0 [m] | h [m] | points per cell | regularization | watched to t [s] | front after the gate / L0 | "
              "top drop / H0 | outcome | "
              + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
-             "|---|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
-    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {regularization(r)} | {r['end']:.3f} | "
+             "|---|---|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
+    lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {points_per_cell(r)} | {regularization(r)} | {r['end']:.3f} | "
               f"{r['front']:.3f} | {r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
               + f" | {r['cpu_s']:.0f} |" + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
     lines.append("")
@@ -213,7 +226,11 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
+    parser.add_argument("--points-per-cell", type=int, default=1,
+                        help="material points, each with its own cell, per grid cell and direction (default 1)")
     args = parser.parse_args()
+    if args.points_per_cell < 1:
+        parser.error(f"--points-per-cell: expected an integer >= 1, got {args.points_per_cell}")
     scenes.require_whole_cells(parser, args.cell_size,
                                [("--width", args.width)] + [("--heights", height) for height in args.heights])
     if not (args.strength or args.unconfined):
@@ -226,7 +243,7 @@ def main():
     args.out.mkdir(parents=True, exist_ok=True)
     for height in args.heights:
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
-                         args.nonlocal_length, args.watch, args.threads)
+                         args.nonlocal_length, args.points_per_cell, args.watch, args.threads)
         print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)

@@ -103,6 +103,7 @@ def cases(smoke):
     out += [("live_a1_seed2", "live", 1.0, 2, 125, H, PPC)]
     out += [(f"live_a1_n{n}", "live", 1.0, 1, n, H, PPC) for n in (64, 250)]
     out += [("live_a1_h0.01", "live", 1.0, 1, 125, H / 2, PPC)]
+    out += [("live_a1_ppc2", "live", 1.0, 1, 125, H, 2)]  # the twin's points per cell (stop 74)
     out += [(f"dp_a{a:g}", "drucker_prager", a, None, None, H, PPC) for a in (0.5, 1.0, 2.0)]
     out += [(f"dp_a{a:g}_h0.01_ppc2", "drucker_prager", a, None, None, 0.01, 2) for a in (0.5, 1.0, 2.0)]
     out += [("dp_a1_h0.01", "drucker_prager", 1.0, None, None, H / 2, PPC)]
