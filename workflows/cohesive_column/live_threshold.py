@@ -34,7 +34,7 @@ verdict otherwise.
 
 Finished runs in OUT/runs/ are kept (an interrupted study resumes), and the outputs cover every run of
 the cell there, so that heights run with other widths, grids and lengths ℓ join one table (the
-thresholds bracketed per ℓ and H0/h). Writes OUT/live_threshold.md,
+thresholds bracketed per ℓ, H0/h and points per cell). Writes OUT/live_threshold.md,
 OUT/live_threshold.json and OUT/live_threshold.png (front displacement against H0, with each H_c).
 """
 import argparse
