@@ -1,9 +1,9 @@
 // An ETA from a run's recent pace, not from its average since the start. A run whose cost per unit
 // of progress changes on the way read its cheap beginning as its future: a surrogate column, answered
 // by the library while it stands, read "ETA 1 min 25 s" a third of the way in with some 4 min left
-// (stop 74). The
-// pace here is that of the last `window` seconds of wall time, so an ETA follows such a change within
-// one window; before a window has passed it is the average since the first sample, as before.
+// (stop 74). The pace here is that of the last `window` seconds of wall time, so an ETA follows such
+// a change within one window; before a window has passed it is the average since the first sample,
+// as before. A cost that keeps rising still reads low, by less.
 //
 // Promises:
 // - record(wall, progress) takes samples of a nondecreasing wall time [s] and of the progress made by
