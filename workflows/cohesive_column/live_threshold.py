@@ -226,11 +226,9 @@ def main():
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
-    parser.add_argument("--points-per-cell", type=int, default=1,
-                        help="material points, each with its own cell, per grid cell and direction (default 1)")
+    scenes.add_points_per_cell_option(parser, 1,
+                                      "material points, each with its own cell, per grid cell and direction (default 1)")
     args = parser.parse_args()
-    if args.points_per_cell < 1:
-        parser.error(f"--points-per-cell: expected an integer >= 1, got {args.points_per_cell}")
     scenes.require_whole_cells(parser, args.cell_size,
                                [("--width", args.width)] + [("--heights", height) for height in args.heights])
     if not (args.strength or args.unconfined):

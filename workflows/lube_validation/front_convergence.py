@@ -29,7 +29,7 @@ import study
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment  # noqa: E402
+from plotting import environment, scenes  # noqa: E402
 from plotting.tables import read_csv  # noqa: E402
 
 EDGES = (0.01, 0.025, 0.05, 0.10)  # deposit thickness / H0
@@ -135,11 +135,9 @@ def main():
                         help="sand pulled apart carries nothing until packed back (drucker_prager_law.hpp)")
     parser.add_argument("--material", choices=["sand", "live_twin"], default="sand",
                         help="the study's sand (φ = 30°), or the Drucker–Prager twin of the live study's cell")
-    parser.add_argument("--points-per-cell", type=int,
-                        help="material points per grid cell and direction (default: the sand's 2, the twin's 1)")
+    scenes.add_points_per_cell_option(parser, None,
+                                      "material points per grid cell and direction (default: the sand's 2, the twin's 1)")
     args = parser.parse_args()
-    if args.points_per_cell is not None and args.points_per_cell < 1:
-        parser.error(f"--points-per-cell: expected an integer >= 1, got {args.points_per_cell}")
     if not all(h > 0 for h in args.cell_sizes):
         parser.error(f"--cell-sizes: expected sizes > 0 [m], got {args.cell_sizes}")
     if not all(0 < s <= args.end for s in args.times):

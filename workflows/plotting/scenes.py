@@ -62,6 +62,16 @@ def add_nonlocal_length_option(parser, help_text):
     parser.add_argument("--nonlocal-length", type=positive_length, help=help_text)
 
 
+def add_points_per_cell_option(parser, default, help_text):
+    """Adds --points-per-cell N to `parser`: material points per grid cell and direction, an integer >= 1,
+    or `default` when absent."""
+    def at_least_one(text):
+        if not text.strip().lstrip("+-").isdigit() or int(text) < 1:
+            raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text}")
+        return int(text)
+    parser.add_argument("--points-per-cell", type=at_least_one, default=default, help=help_text)
+
+
 def regularization_settings(nonlocal_length):
     """({JSON pointer: value} regularizing a scene over `nonlocal_length` [m] (the scene's
     regularization.nonlocal_length), the suffix naming such a run); ({}, "") for None, a local run."""
