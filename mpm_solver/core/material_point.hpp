@@ -20,7 +20,6 @@ struct MaterialPoint {
   // APIC's B_p = Σ_i N_ip v_i (x_i − x_p)ᵀ: with C_p = B_p D_p⁻¹ the point carries the affine
   // velocity field v_p + C_p (x − x_p) (Jiang et al. 2015). Zero under the FLIP/PIC blend.
   Mat2 affine_velocity = Mat2::Zero();
-  Vec2 external_force = Vec2::Zero();  // obstacle contact force of the current step [N/m]
   Mat2 deformation_gradient = Mat2::Identity();
   // L of the last step, the one its law was driven with and F integrates: the grid's gradient at the
   // point, or its nonlocal average when the scene regularizes (nonlocal_average.hpp).

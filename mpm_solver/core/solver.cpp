@@ -200,18 +200,21 @@ void Solver::locate_points() {
 
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
+  const std::size_t count = obstacles_.size();
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
+  contacts_.assign(points_.size() * count, AppliedForce{});
   FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
-    MaterialPoint& mp = points_[p];
-    mp.external_force.setZero();
-    const auto velocity_at = [&] { return material_velocity_at(grid_, stencils_[p]); };
-    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
+    const MaterialPoint& mp = points_[p];
+    const auto velocity_at = [&](const Vec2& x) {
+      return material_velocity_at(grid_, stencil_at(grid_, grid_.nearest_covered(x)));
+    };
+    for (std::size_t k = 0; k < count; ++k) {
       Obstacle& o = obstacles_[k];
       if (!o.active(time_)) continue;
       try {
-        mp.external_force += o.contact_force(mp.id, mp.position, velocity_at, mp.radius, mp.mass, time_, dt);
+        contacts_[p * count + k] = o.contact_force(mp.id, mp.position, velocity_at, mp.radius, mp.mass, time_, dt);
       } catch (const std::exception& e) {
         failure.capture("material point " + std::to_string(mp.id) + " (obstacle " + std::to_string(k) + ")" +
                             at_time(time_),
@@ -220,7 +223,9 @@ void Solver::apply_obstacle_contacts(double dt) {
     }
   }
   failure.rethrow_if_any();
-  add_external_forces(grid_, points_, stencils_);
+  // Serial: only the few points touching an obstacle carry a force.
+  for (const AppliedForce& contact : contacts_)
+    if (!contact.force.isZero(0)) add_point_force(grid_, contact.at, contact.force);
 }
 
 void Solver::update_stresses(double dt) {

@@ -128,6 +128,7 @@ class Solver {
   SolverSettings settings_;
   std::vector<std::unique_ptr<ConstitutiveLaw>> laws_;
   std::vector<MaterialPoint> points_;
+  std::vector<AppliedForce> contacts_;  // of the current step, point-major: [point × obstacle]
   std::vector<Stencil> stencils_;
   std::vector<Obstacle> obstacles_;
   Gravity gravity_;

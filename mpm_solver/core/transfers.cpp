@@ -99,17 +99,12 @@ Vec2 material_velocity_at(const Grid& grid, const Stencil& s) {
   return v;
 }
 
-void add_external_forces(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils) {
+void add_point_force(Grid& grid, const Vec2& x, const Vec2& f) {
   const std::size_t stride = grid.nodes_x();
-  // Serial: only the few points touching an obstacle carry a force.
-  for (std::size_t p = 0; p < points.size(); ++p) {
-    const Vec2& f = points[p].external_force;
-    if (f.isZero(0)) continue;
-    const Stencil& s = stencils[p];
-    for (int b = 0; b < 4; ++b) {
-      const std::size_t row = s.first_node + b * stride;
-      for (int a = 0; a < 4; ++a) grid.sums.force[row + a] += (s.wx[a] * s.wy[b]) * f;
-    }
+  const Stencil s = stencil_at(grid, grid.nearest_covered(x));
+  for (int b = 0; b < 4; ++b) {
+    const std::size_t row = s.first_node + b * stride;
+    for (int a = 0; a < 4; ++a) grid.sums.force[row + a] += (s.wx[a] * s.wy[b]) * f;
   }
 }
 

@@ -52,8 +52,10 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
 // that no displacement pays for.
 Vec2 material_velocity_at(const Grid& grid, const Stencil& s);
 
-// Adds the points' external (obstacle contact) forces to the nodal forces: f_i += Σ_p N_ip f_ext,p.
-void add_external_forces(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils);
+// Adds a force f acting at x (an obstacle's contact) to the nodal forces: f_i += N_i(x) f. An x
+// outside the grid's covered box (a wall just beyond it, touched by a disk inside) acts at the
+// nearest covered point.
+void add_point_force(Grid& grid, const Vec2& x, const Vec2& f);
 
 // Nodal velocity v_i = q_i / m_i and acceleration a_i = f_i / m_i + g at nodes carrying mass.
 void update_grid(Grid& grid, const Vec2& gravity);

@@ -2,7 +2,7 @@
 // zero force where the disk stays clear, k_n × overlap along the outward normal where it overlaps by
 // at most kMaxPenetration of its radius, and a PenetrationError beyond. Centres sweep a grid around
 // the shape, its corners and the band just outside its bounding box included, so a shortcut that
-// skipped a disk which does touch would fail here.
+// skipped a disk which does touch would fail here. The force acts where the disk meets the shape.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -44,15 +44,19 @@ void sweep(Obstacle& obstacle, const Vec2& shift, double t, const auto& distance
       if (std::abs(d - kRadius) < 1e-9 || std::abs(d - 0.5 * kRadius) < 1e-9) continue;  // ties
       const std::optional<double> expected = expected_force(d, inside);
       const auto force = [&] {
-        return obstacle.contact_force(id++, local + shift, [] { return Vec2(0, 0); }, kRadius, 1.0, t, 1e-4);
+        return obstacle.contact_force(id++, local + shift, [](const Vec2&) { return Vec2(0, 0); }, kRadius, 1.0, t, 1e-4);
       };
       if (!expected) {
         EXPECT_THROW(force(), PenetrationError) << "centre " << local.transpose();
         ++refused;
         continue;
       }
-      const double magnitude = force().norm();
+      const AppliedForce applied = force();
+      const double magnitude = applied.force.norm();
       EXPECT_NEAR(magnitude, *expected, 1e-9 * kStiffness) << "centre " << local.transpose() << ", distance " << d;
+      // A touching disk is pushed where it meets the shape's surface.
+      if (magnitude > 0)
+        EXPECT_NEAR(distance_and_inside(applied.at - shift).first, 0.0, 1e-9) << "centre " << local.transpose();
       ++(magnitude > 0 ? touching : clear);
     }
   // The sweep reaches every case.
