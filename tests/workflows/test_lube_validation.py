@@ -132,8 +132,11 @@ class LubeValidationTest(WorkflowTest):
         """thin_layer.py --velocity: layers one and two grid cells thick, launched at 1 m/s on a base
         of friction 0.3 (less than the sand carries in simple shear, sin 30° = 0.5, so the base's
         friction sets the slide), stop with their centre of mass where a rigid block would, v0²/(2 μ g) = 169.9 mm,
-        within 3 %: the base contact takes its whole Coulomb friction from a layer as thin as the grid.
-        Their fronts run ahead of the centre (the layer stretches as it slows)."""
+        within 4 %, and within 1 % of each other: the base contact takes its whole Coulomb friction from
+        a layer as thin as the grid. Their fronts run ahead of the centre (the layer stretches as it
+        slows), so the layer is not a block: since stop 76, with the base's force acting where the points
+        touch it, the centres stop 2.9–3.0 % beyond the block at one, two and four cells (before,
+        0.9–2.3 %)."""
         out = run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "thin_layer.py", self.out, "--build", BUILD,
                    "--thickness", "0.01", "--cells", "1", "2", "--transfers", "apic_flip:5", "--velocity", "1",
                    "--base-friction", "0.3"])
@@ -141,11 +144,14 @@ class LubeValidationTest(WorkflowTest):
         self.assertIn(f"rigid block: {rigid:.1f}", out)
         rows = [line.split("|") for line in out.splitlines() if line.startswith("| apic_flip:5 |")]
         self.assertEqual([int(r[2]) for r in rows], [1, 2], out)
+        centres = []
         for r in rows:
             centre, front, rear = (float(r[i]) for i in (3, 4, 5))
-            self.assertLess(abs(centre / rigid - 1), 0.03, out)
+            self.assertLess(abs(centre / rigid - 1), 0.04, out)
             self.assertGreater(front, centre)
             self.assertLess(rear, centre)
+            centres.append(centre)
+        self.assertLess(abs(centres[1] / centres[0] - 1), 0.01, out)
 
     def test_thin_layer_refuses_a_negative_speed(self):
         done = subprocess.run(["/usr/bin/python3", WORKFLOWS / "lube_validation" / "thin_layer.py", self.out,
