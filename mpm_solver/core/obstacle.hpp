@@ -10,8 +10,8 @@
 // cohesive study's size (0.3375 m on a 0.05625 m grid) at rest held 43 % and 32 % of the weight
 // above its bottom row in that row, and 106 % and 116 % in the next, at one and two points per cell
 // (stop 76). Acting at the surface, they hold 96 % and 98 % at one point per cell, 107 % and 86 % at
-// two, and every point of the
-// test column is within 2 % of ρ g H of its weight above (ElasticColumn.SelfWeightStressProfile).
+// two, and every point of the test column is within 2 % of ρ g H of its weight above
+// (ElasticColumn.SelfWeightStressProfile).
 #pragma once
 #include <cstdint>
 #include <limits>
