@@ -3,6 +3,7 @@
 #pragma once
 #include <cmath>
 #include <cstddef>
+#include <utility>
 
 #include "mpm_solver/core/grid.hpp"
 
@@ -33,6 +34,19 @@ inline void cubic_weights(double f, double inv_h, double w[4], double g[4]) {
   g[1] = (1.5 * f * f - 2 * f) * inv_h;
   g[2] = -(1.5 * r * r - 2 * r) * inv_h;
   g[3] = 0.5 * f * f * inv_h;
+}
+
+// ∇N of the node at offset r = x - x_node (N = N(r_x / h) N(r_y / h), zero beyond 2h in either axis).
+inline Vec2 shape_gradient(const Vec2& r, double h) {
+  const auto weight = [](double u) {  // N(u) and dN/du of the 1D cubic B-spline
+    const double a = std::abs(u), sign = u < 0 ? -1.0 : 1.0;
+    if (a >= 2) return std::pair<double, double>{0.0, 0.0};
+    if (a >= 1) return std::pair<double, double>{(2 - a) * (2 - a) * (2 - a) / 6, -0.5 * (2 - a) * (2 - a) * sign};
+    return std::pair<double, double>{0.5 * a * a * a - a * a + 2.0 / 3, (1.5 * a * a - 2 * a) * sign};
+  };
+  const auto [nx, gx] = weight(r.x() / h);
+  const auto [ny, gy] = weight(r.y() / h);
+  return Vec2(gx * ny, nx * gy) / h;
 }
 
 // The stencil of a point at x, which the grid must contain (ghost ring: base index ≥ -1).

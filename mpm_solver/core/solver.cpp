@@ -198,6 +198,10 @@ void Solver::locate_points() {
   compute_stencils(grid_, points_, stencils_);
 }
 
+ContactSpread Solver::spread_of(const MaterialPoint& mp, const Vec2& touching) const {
+  return contact_spread(grid_, mp.position, (mp.position - touching).normalized(), 2 * mp.radius);
+}
+
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
   const std::size_t count = obstacles_.size();
@@ -207,9 +211,7 @@ void Solver::apply_obstacle_contacts(double dt) {
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     const MaterialPoint& mp = points_[p];
-    const auto velocity_at = [&](const Vec2& x) {
-      return material_velocity_at(grid_, stencil_at(grid_, grid_.nearest_covered(x)));
-    };
+    const auto velocity_at = [&](const Vec2& touching) { return material_velocity(grid_, spread_of(mp, touching)); };
     for (std::size_t k = 0; k < count; ++k) {
       Obstacle& o = obstacles_[k];
       if (!o.active(time_)) continue;
@@ -224,8 +226,9 @@ void Solver::apply_obstacle_contacts(double dt) {
   }
   failure.rethrow_if_any();
   // Serial: only the few points touching an obstacle carry a force.
-  for (const AppliedForce& contact : contacts_)
-    if (!contact.force.isZero(0)) add_point_force(grid_, contact.at, contact.force);
+  for (std::size_t c = 0; c < contacts_.size(); ++c)
+    if (!contacts_[c].force.isZero(0))
+      add_contact_force(grid_, spread_of(points_[c / count], contacts_[c].at), contacts_[c].force);
 }
 
 void Solver::update_stresses(double dt) {

@@ -122,6 +122,8 @@ class Solver {
   void rebalance();  // re-deals the spread points by their cost since the last call
   void locate_points();           // stencils; throws if a point left the grid
   void apply_obstacle_contacts(double dt);
+  // How the contact of point mp with an obstacle it touches at `touching` meets the grid.
+  ContactSpread spread_of(const MaterialPoint& mp, const Vec2& touching) const;
   void update_stresses(double dt);
 
   Grid grid_;

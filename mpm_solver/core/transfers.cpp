@@ -4,6 +4,10 @@
 
 #include <omp.h>
 
+#include <cmath>
+
+#include <cmath>
+
 namespace grainbank::mpm {
 
 namespace {
@@ -86,25 +90,43 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
   });
 }
 
-Vec2 material_velocity_at(const Grid& grid, const Stencil& s) {
+ContactSpread contact_spread(const Grid& grid, const Vec2& x, const Vec2& normal, double spacing) {
+  const double h = grid.cell_size();
+  const Stencil s = stencil_at(grid, x);
+  const int column = static_cast<int>(std::ceil(4 * h / spacing));
+  ContactSpread spread{s.first_node, {}};
+  double total = 0;
+  for (int b = 0; b < 4; ++b)
+    for (int a = 0; a < 4; ++a) {
+      const Vec2 node = x + Vec2(s.dx[a], s.dy[b]);
+      double flux = 0;
+      for (int k = 0; k <= column; ++k) flux += shape_gradient(x + k * spacing * normal - node, h).dot(normal);
+      spread.weight[b][a] = -spacing * flux;
+      total += spread.weight[b][a];
+    }
+  for (auto& row : spread.weight)
+    for (double& w : row) w /= total;
+  return spread;
+}
+
+Vec2 material_velocity(const Grid& grid, const ContactSpread& spread) {
   const std::size_t stride = grid.nodes_x();
   Vec2 v = Vec2::Zero();
   for (int b = 0; b < 4; ++b) {
-    const std::size_t row = s.first_node + b * stride;
+    const std::size_t row = spread.first_node + b * stride;
     for (int a = 0; a < 4; ++a) {
       const double m = grid.sums.mass[row + a];
-      if (m > 0) v += (s.wx[a] * s.wy[b] / m) * grid.sums.momentum[row + a];
+      if (m > 0) v += (spread.weight[b][a] / m) * grid.sums.momentum[row + a];
     }
   }
   return v;
 }
 
-void add_point_force(Grid& grid, const Vec2& x, const Vec2& f) {
+void add_contact_force(Grid& grid, const ContactSpread& spread, const Vec2& f) {
   const std::size_t stride = grid.nodes_x();
-  const Stencil s = stencil_at(grid, grid.nearest_covered(x));
   for (int b = 0; b < 4; ++b) {
-    const std::size_t row = s.first_node + b * stride;
-    for (int a = 0; a < 4; ++a) grid.sums.force[row + a] += (s.wx[a] * s.wy[b]) * f;
+    const std::size_t row = spread.first_node + b * stride;
+    for (int a = 0; a < 4; ++a) grid.sums.force[row + a] += spread.weight[b][a] * f;
   }
 }
 

@@ -75,7 +75,7 @@ inline std::map<std::uint32_t, Vec2> positions_by_id(const Solver& solver) {
   return out;
 }
 
-// An elastic column (ν = 0, E = 5 MPa, ρ = 1000 kg/m³) 0.4 m wide and 1 m tall, 2 × 2 points per grid
+// An elastic column (ν = 0, E = 5 MPa, ρ = 1000 kg/m³) 0.4 m wide and 1 m tall, n × n points per grid
 // cell of 0.05 m, on a frictionless floor at y = 0.1 m, under gravity ramped in over 0.3 s, run to
 // `end`. Its settled state is σ_yy = -ρ g (H - y), σ_xx = 0, y the initial height above the floor.
 struct SelfWeightColumn {
@@ -83,9 +83,10 @@ struct SelfWeightColumn {
   Solver solver;
   std::map<std::uint32_t, Vec2> initial_positions;
 
-  SelfWeightColumn(const SolverSettings& settings, double end) : solver(Grid(Vec2(0, 0), h, 12, 24), settings) {
+  SelfWeightColumn(const SolverSettings& settings, double end, int points_per_cell = 2)
+      : solver(Grid(Vec2(0, 0), h, 12, 24), settings) {
     solver.add_law(std::make_unique<ElasticLaw>(rho, Elasticity{5e6, 0.0}));
-    seed_region(solver, 0, rectangle(Vec2(0.1, base), Vec2(0.1 + width, base + height)), 2);
+    seed_region(solver, 0, rectangle(Vec2(0.1, base), Vec2(0.1 + width, base + height)), points_per_cell);
     solver.add_obstacle(Obstacle(Polyline{{Vec2(-1, base), Vec2(2, base)}, false}, ContactParameters{1e6, 0, 0, 1.0}));
     solver.set_gravity(Gravity{Vec2(0, -g), GravityRamp{Vec2::Zero(), 0.0, 0.3}});
     initial_positions = positions_by_id(solver);
