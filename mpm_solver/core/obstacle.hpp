@@ -63,12 +63,12 @@ class Obstacle {
   const std::vector<double>& tangential_history() const { return tangential_; }
   void set_tangential_history(std::vector<double> history) { tangential_ = std::move(history); }
 
-  // Contact force on the disk (centre x, radius r, mass m) of point `id` at time t over a step dt,
-  // acting at the surface point the disk touches; a zero force when apart. `velocity_at(y)` gives the
-  // material's velocity at y (material_velocity_at, transfers.hpp), asked at the touching point only
-  // when the disk touches, the few points of a large body: the dashpot and the friction then work
-  // against the motion of the material where the force does work on it. Updates only the history of
-  // `id` (safe across distinct points).
+  // Contact force on the disk (centre x, radius r, mass m) of point `id` at time t over a step dt, and
+  // the surface point the disk touches; a zero force when apart. `velocity_at(touching)` gives the
+  // material's velocity where the force acts (the solver's: material_velocity of the contact's
+  // ContactSpread, transfers.hpp), asked only when the disk touches, the few points of a large body:
+  // the dashpot and the friction then work against the motion of the material the force drives.
+  // Updates only the history of `id` (safe across distinct points).
   // Throws PenetrationError when the disk overlaps the obstacle by more than kMaxPenetration of its
   // radius: the spring is too soft for the impact or for the load pressing the point in, and a centre
   // crossing a line would be pushed on through it (silent tunnelling) instead of back. The message says
