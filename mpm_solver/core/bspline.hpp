@@ -3,7 +3,6 @@
 #pragma once
 #include <cmath>
 #include <cstddef>
-#include <utility>
 
 #include "mpm_solver/core/grid.hpp"
 
@@ -36,17 +35,15 @@ inline void cubic_weights(double f, double inv_h, double w[4], double g[4]) {
   g[3] = 0.5 * f * f * inv_h;
 }
 
-// ∇N of the node at offset r = x - x_node (N = N(r_x / h) N(r_y / h), zero beyond 2h in either axis).
-inline Vec2 shape_gradient(const Vec2& r, double h) {
-  const auto weight = [](double u) {  // N(u) and dN/du of the 1D cubic B-spline
-    const double a = std::abs(u), sign = u < 0 ? -1.0 : 1.0;
-    if (a >= 2) return std::pair<double, double>{0.0, 0.0};
-    if (a >= 1) return std::pair<double, double>{(2 - a) * (2 - a) * (2 - a) / 6, -0.5 * (2 - a) * (2 - a) * sign};
-    return std::pair<double, double>{0.5 * a * a * a - a * a + 2.0 / 3, (1.5 * a * a - 2 * a) * sign};
-  };
-  const auto [nx, gx] = weight(r.x() / h);
-  const auto [ny, gy] = weight(r.y() / h);
-  return Vec2(gx * ny, nx * gy) / h;
+// The 1D cubic B-spline N(u) and its derivative dN/du at u = (x - x_node) / h (zero from |u| = 2 on).
+struct SplineValue {
+  double value, slope;
+};
+inline SplineValue cubic_bspline(double u) {
+  const double a = std::abs(u), sign = u < 0 ? -1.0 : 1.0;
+  if (a >= 2) return {0.0, 0.0};
+  if (a >= 1) return {(2 - a) * (2 - a) * (2 - a) / 6, -0.5 * (2 - a) * (2 - a) * sign};
+  return {0.5 * a * a * a - a * a + 2.0 / 3, (1.5 * a * a - 2 * a) * sign};
 }
 
 // The stencil of a point at x, which the grid must contain (ghost ring: base index ≥ -1).

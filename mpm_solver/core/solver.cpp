@@ -5,6 +5,7 @@
 #include <chrono>
 #include <exception>
 #include <limits>
+#include <omp.h>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -198,25 +199,27 @@ void Solver::locate_points() {
   compute_stencils(grid_, points_, stencils_);
 }
 
-ContactSpread Solver::spread_of(const MaterialPoint& mp, const Vec2& touching) const {
-  return contact_spread(grid_, mp.position, (mp.position - touching).normalized(), 2 * mp.radius);
-}
-
 void Solver::apply_obstacle_contacts(double dt) {
   const long n = static_cast<long>(points_.size());
-  const std::size_t count = obstacles_.size();
   for (Obstacle& o : obstacles_) o.reserve_points(points_.size());
-  contacts_.assign(points_.size() * count, AppliedForce{});
+  touching_.resize(std::max(omp_get_max_threads(), 1));
+  for (std::vector<TouchingContact>& list : touching_) list.clear();
   FirstFailure failure;
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     const MaterialPoint& mp = points_[p];
-    const auto velocity_at = [&](const Vec2& touching) { return material_velocity(grid_, spread_of(mp, touching)); };
-    for (std::size_t k = 0; k < count; ++k) {
+    std::vector<TouchingContact>& mine = touching_[omp_get_thread_num()];
+    ContactSpread spread;
+    const auto velocity_at = [&](const Vec2& touching) {
+      spread = contact_spread(grid_, mp.position, (mp.position - touching).normalized(), 2 * mp.radius);
+      return material_velocity(grid_, spread);
+    };
+    for (std::size_t k = 0; k < obstacles_.size(); ++k) {
       Obstacle& o = obstacles_[k];
       if (!o.active(time_)) continue;
       try {
-        contacts_[p * count + k] = o.contact_force(mp.id, mp.position, velocity_at, mp.radius, mp.mass, time_, dt);
+        const AppliedForce applied = o.contact_force(mp.id, mp.position, velocity_at, mp.radius, mp.mass, time_, dt);
+        if (!applied.force.isZero(0)) mine.push_back({applied.force, spread});
       } catch (const std::exception& e) {
         failure.capture("material point " + std::to_string(mp.id) + " (obstacle " + std::to_string(k) + ")" +
                             at_time(time_),
@@ -225,10 +228,10 @@ void Solver::apply_obstacle_contacts(double dt) {
     }
   }
   failure.rethrow_if_any();
-  // Serial: only the few points touching an obstacle carry a force.
-  for (std::size_t c = 0; c < contacts_.size(); ++c)
-    if (!contacts_[c].force.isZero(0))
-      add_contact_force(grid_, spread_of(points_[c / count], contacts_[c].at), contacts_[c].force);
+  // Serially, in the points' order (a static schedule hands each thread one run of points, in order):
+  // the nodal sums come out the same whatever the threads.
+  for (const std::vector<TouchingContact>& list : touching_)
+    for (const TouchingContact& contact : list) add_contact_force(grid_, contact.spread, contact.force);
 }
 
 void Solver::update_stresses(double dt) {

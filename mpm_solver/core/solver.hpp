@@ -122,15 +122,17 @@ class Solver {
   void rebalance();  // re-deals the spread points by their cost since the last call
   void locate_points();           // stencils; throws if a point left the grid
   void apply_obstacle_contacts(double dt);
-  // How the contact of point mp with an obstacle it touches at `touching` meets the grid.
-  ContactSpread spread_of(const MaterialPoint& mp, const Vec2& touching) const;
   void update_stresses(double dt);
 
   Grid grid_;
   SolverSettings settings_;
   std::vector<std::unique_ptr<ConstitutiveLaw>> laws_;
   std::vector<MaterialPoint> points_;
-  std::vector<AppliedForce> contacts_;  // of the current step, point-major: [point × obstacle]
+  struct TouchingContact {
+    Vec2 force;
+    ContactSpread spread;
+  };
+  std::vector<std::vector<TouchingContact>> touching_;  // this step's contacts, per OpenMP thread
   std::vector<Stencil> stencils_;
   std::vector<Obstacle> obstacles_;
   Gravity gravity_;

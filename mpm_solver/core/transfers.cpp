@@ -91,21 +91,26 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
 }
 
 ContactSpread contact_spread(const Grid& grid, const Vec2& x, const Vec2& normal, double spacing) {
-  const double h = grid.cell_size();
+  const double inv_h = 1 / grid.cell_size();
   const Stencil s = stencil_at(grid, x);
-  const int column = static_cast<int>(std::ceil(4 * h / spacing));
   ContactSpread spread{s.first_node, {}};
+  double flux[4][4] = {};  // Σ_k ∇N_i · n h over the column, node (a, b) at flux[b][a]
+  const int column = static_cast<int>(std::ceil(4 / (spacing * inv_h)));
+  for (int k = 0; k <= column; ++k) {
+    // The column's k-th point sits at k d n from x, i.e. at -dx[a] + k d n_x from node column a.
+    SplineValue nx[4], ny[4];
+    for (int a = 0; a < 4; ++a) nx[a] = cubic_bspline((k * spacing * normal.x() - s.dx[a]) * inv_h);
+    for (int b = 0; b < 4; ++b) ny[b] = cubic_bspline((k * spacing * normal.y() - s.dy[b]) * inv_h);
+    for (int b = 0; b < 4; ++b)
+      for (int a = 0; a < 4; ++a)
+        flux[b][a] += nx[a].slope * ny[b].value * normal.x() + nx[a].value * ny[b].slope * normal.y();
+  }
   double total = 0;
   for (int b = 0; b < 4; ++b)
-    for (int a = 0; a < 4; ++a) {
-      const Vec2 node = x + Vec2(s.dx[a], s.dy[b]);
-      double flux = 0;
-      for (int k = 0; k <= column; ++k) flux += shape_gradient(x + k * spacing * normal - node, h).dot(normal);
-      spread.weight[b][a] = -spacing * flux;
-      total += spread.weight[b][a];
-    }
-  for (auto& row : spread.weight)
-    for (double& w : row) w /= total;
+    for (int a = 0; a < 4; ++a) total += flux[b][a];
+  // ω_i = -d Σ_k ∇N_i · n; scaled to sum to one, the factor -d/h cancels.
+  for (int b = 0; b < 4; ++b)
+    for (int a = 0; a < 4; ++a) spread.weight[b][a] = flux[b][a] / total;
   return spread;
 }
 

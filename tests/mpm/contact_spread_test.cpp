@@ -17,6 +17,12 @@ namespace {
 
 constexpr double kCell = 0.1;
 
+// ∇N of the node at offset r = x - x_node.
+Vec2 shape_gradient(const Vec2& r) {
+  const SplineValue x = cubic_bspline(r.x() / kCell), y = cubic_bspline(r.y() / kCell);
+  return Vec2(x.slope * y.value, x.value * y.slope) / kCell;
+}
+
 // Σ over the stencil's columns of the weights of its row b: the share of the force each row of nodes takes.
 double row_share(const ContactSpread& spread, int b) {
   return spread.weight[b][0] + spread.weight[b][1] + spread.weight[b][2] + spread.weight[b][3];
@@ -51,7 +57,7 @@ double worst_imbalance(const Grid& grid, const Vec2& lowest, const Vec2& n, doub
       const Vec2 node = lowest + Vec2(base.dx[a], base.dy[b]);
       Vec2 force = spread.weight[b][a] * (s * d) * n;
       for (int k = 0; k < 100; ++k)  // -V σ ∇N = V s n (n·∇N)
-        force += d * d * s * n * n.dot(shape_gradient(lowest + k * d * n - node, grid.cell_size()));
+        force += d * d * s * n * n.dot(shape_gradient(lowest + k * d * n - node));
       worst = std::max(worst, force.norm());
     }
   return worst / (s * d);
