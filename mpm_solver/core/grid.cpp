@@ -31,12 +31,6 @@ bool Grid::contains(const Vec2& x) const {
   return x.x() >= origin_.x() && x.y() >= origin_.y() && x.x() < hi.x() && x.y() < hi.y();
 }
 
-Vec2 Grid::nearest_covered(const Vec2& x) const {
-  // The box is open at its upper sides.
-  const Vec2 top = upper() - Vec2::Constant(1e-9 * h_);
-  return x.cwiseMax(origin_).cwiseMin(top);
-}
-
 std::size_t Grid::cell_index(const Vec2& x) const {
   const auto i = static_cast<std::size_t>((x.x() - origin_.x()) / h_);
   const auto j = static_cast<std::size_t>((x.y() - origin_.y()) / h_);

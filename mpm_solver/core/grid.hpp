@@ -32,8 +32,6 @@ class Grid {
   Vec2 upper() const { return origin_ + h_ * Vec2(cells_x_, cells_y_); }
   // True when x lies in the covered box (where every stencil is complete).
   bool contains(const Vec2& x) const;
-  // x itself if the box covers it, else the nearest point the box covers.
-  Vec2 nearest_covered(const Vec2& x) const;
 
   // Nodes, ghost ring included: node (i, j) for i in [-1, cells_x + 1] is stored at
   // (i + 1) + (j + 1) nodes_x().

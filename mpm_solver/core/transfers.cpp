@@ -6,8 +6,6 @@
 
 #include <cmath>
 
-#include <cmath>
-
 namespace grainbank::mpm {
 
 namespace {
