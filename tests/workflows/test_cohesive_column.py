@@ -12,6 +12,7 @@ from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
 sys.path.insert(0, str(WORKFLOWS / "cohesive_column"))
 import live_threshold  # noqa: E402
+from plotting import scenes  # noqa: E402
 
 
 class CohesiveColumnTest(WorkflowTest):
@@ -95,10 +96,13 @@ class LiveThresholdTest(WorkflowTest):
         self.assertEqual(sorted(verdict["threshold_over_critical"]), ["local, H0/h = 4", "ℓ = 0.1 m, H0/h = 4"])
         self.assert_png(self.out / "live" / "live_threshold.png")
 
-    def test_refuses_points_per_cell_below_one_before_anything_runs(self):
+    def test_refuses_points_per_cell_below_one_or_an_unknown_transfer_before_anything_runs(self):
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--points-per-cell", "0")
         self.assertIn("--points-per-cell: expected an integer >= 1, got 0", str(refused.exception))
+        with self.assertRaises(AssertionError) as refused:
+            self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--transfer", "flip")
+        self.assertIn("--transfer: expected apic, pic, RATE or apic_flip:RATE, got flip", str(refused.exception))
         self.assertFalse((self.out / "live").exists())
 
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):
@@ -131,3 +135,14 @@ class ThresholdResolutionTest(unittest.TestCase):
         self.assertEqual(live_threshold.resolution(two), "local, H0/h = 6, 2 points per cell")
         self.assertEqual(live_threshold.threshold_brackets([one, two]),
                          {"local, H0/h = 6": (0.3, None), "local, H0/h = 6, 2 points per cell": (None, 0.3)})
+
+    def test_a_run_under_another_transfer_is_bracketed_apart(self):
+        row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None, "points_per_cell": 2}
+        default, damped = {**row, "stands": False}, {**row, "transfer": "apic_flip:50", "stands": True}
+        self.assertEqual(live_threshold.resolution(damped), "local, H0/h = 6, 2 points per cell, transfer apic_flip:50")
+        self.assertEqual(live_threshold.threshold_brackets([default, damped]),
+                         {"local, H0/h = 6, 2 points per cell": (None, 0.3),
+                          "local, H0/h = 6, 2 points per cell, transfer apic_flip:50": (0.3, None)})
+        self.assertEqual(scenes.transfer_settings("apic_flip:50"),
+                         ({"/integration/transfer": {"apic_flip": {"pic_rate": 50.0}}}, "_apic_flip50"))
+        self.assertEqual(scenes.transfer_settings(None), ({}, ""))

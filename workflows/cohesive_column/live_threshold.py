@@ -28,7 +28,7 @@ verdict otherwise.
   /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
                                      [--heights 0.05 0.1 0.15 0.2]
                                      [--width 0.15] [--cell-size 0.0125] [--nonlocal-length ℓ]
-                                     [--points-per-cell 1]
+                                     [--points-per-cell 1] [--transfer apic|pic|RATE|apic_flip:RATE]
                                      [--cell CELL.json]
                                      [--build BUILD] [--threads N] [--watch 4]
 
@@ -76,13 +76,15 @@ def column_settings(scene, height, width, h, nonlocal_length, points_per_cell):
             "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
 
 
-def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, watch, threads):
+def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, transfer, watch, threads):
     """One live column of height `height` [m]; returns its row of the table."""
     settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length, points_per_cell)
     end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
+    transfer_setting, transfer_suffix = scenes.transfer_settings(transfer)
+    settings.update(transfer_setting)
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
-            + (f"_ppc{points_per_cell}" if points_per_cell != 1 else ""))
+            + (f"_ppc{points_per_cell}" if points_per_cell != 1 else "") + transfer_suffix)
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -94,7 +96,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
     first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
-           "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "end": float(series["t"][-1]),
+           "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "transfer": transfer, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
@@ -126,7 +128,8 @@ def resolution(row):
     """A run's regularization and resolution, as the brackets name them: "local, H0/h = 12", with ", 2
     points per cell" where it had more than one."""
     label = f"{regularization(row)}, H0/h = {round(row['height'] / row['cell_size'])}"
-    return label + (f", {points_per_cell(row)} points per cell" if points_per_cell(row) != 1 else "")
+    label += f", {points_per_cell(row)} points per cell" if points_per_cell(row) != 1 else ""
+    return label + (f", transfer {row['transfer']}" if row.get("transfer") else "")
 
 
 def threshold_brackets(rows):
@@ -225,6 +228,8 @@ def main():
     parser.add_argument("--cell", type=Path, default=CELL)
     parser.add_argument("--build", type=Path, default=environment.build_dir())
     parser.add_argument("--threads", type=int, default=environment.threads())
+    parser.add_argument("--transfer", type=scenes.transfer_name, help="apic, pic, RATE or apic_flip:RATE (default: the scene's, APIC-FLIP at "
+                        "5 PIC per second)")
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
     scenes.add_points_per_cell_option(parser, 1,
                                       "material points, each with its own cell, per grid cell and direction (default 1)")
@@ -241,7 +246,7 @@ def main():
     args.out.mkdir(parents=True, exist_ok=True)
     for height in args.heights:
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
-                         args.nonlocal_length, args.points_per_cell, args.watch, args.threads)
+                         args.nonlocal_length, args.points_per_cell, args.transfer, args.watch, args.threads)
         print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)

@@ -13,7 +13,11 @@ friction (--wall-friction, default that of the back wall and the gate) acts on t
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+from plotting import scenes  # noqa: E402
 
 GATE_REMOVAL = 0.02  # [s]
 GRAVITY = 9.81  # [m/s²], downwards
@@ -98,14 +102,6 @@ def geometry(a, width=0.2, h=0.02, ppc=2):
     return {"wall": 2 * h, "base": 2 * h, "L0": width, "H0": a * width, "radius": h / (2 * ppc)}
 
 
-def transfer_arg(text):
-    if text in ("apic", "pic"):
-        return text
-    if text.startswith("apic_flip:"):
-        return {"apic_flip": {"pic_rate": float(text.split(":", 1)[1])}}
-    return {"flip_pic": {"pic_rate": float(text)}}
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("out", type=Path)
@@ -115,7 +111,7 @@ def main():
     parser.add_argument("--points-per-cell", type=int, default=2)
     parser.add_argument("--cfl", type=float, default=0.3)
     parser.add_argument("--end", type=float)
-    parser.add_argument("--transfer", type=transfer_arg, default=DEFAULT_TRANSFER,
+    parser.add_argument("--transfer", type=scenes.transfer_arg, default=DEFAULT_TRANSFER,
                         help="apic, pic, a FLIP/PIC rate [1/s] or apic_flip:RATE (default apic_flip:5)")
     parser.add_argument("--inertial-rheology", action="store_true",
                         help="μ(I) with the rate dependence of Jop et al.'s glass beads (JOP_RHEOLOGY)")

@@ -19,7 +19,7 @@ import study
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment  # noqa: E402
+from plotting import environment, scenes  # noqa: E402
 from plotting.vtu import read_run  # noqa: E402
 
 HALF_WIDTH, CENTRE, END, RAMP = 0.2, 0.5, 1.5, 0.1  # [m], [m], [s], [s]
@@ -68,7 +68,7 @@ def main():
         for text in args.transfers:
             for h in args.cell_sizes:
                 folder = args.out / f"slope{slope:g}_{text.replace(':', '')}_h{h:g}"
-                run = study.run_scene(folder, heap_scene(slope, h, column_scene.transfer_arg(text)), args.build, 1)
+                run = study.run_scene(folder, heap_scene(slope, h, scenes.transfer_arg(text)), args.build, 1)
                 if run["failed"]:
                     sys.exit(f"heap.py: {folder}: {run['failed']}")
                 start, end, settled, speed = measure(folder / "run")

@@ -25,7 +25,7 @@ import column_scene
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, flow  # noqa: E402
+from plotting import environment, flow, scenes  # noqa: E402
 from plotting.vtu import read_run  # noqa: E402
 
 # [s] after a layer at rest is released (or has slid to rest): its ends have about stopped by then
@@ -93,7 +93,7 @@ def main():
             h = args.thickness / cells
             folder = args.out / f"{text.replace(':', '')}_T{cells}h"
             folder.mkdir(parents=True, exist_ok=True)
-            scene = layer_scene(args.thickness, h, column_scene.transfer_arg(text), args.velocity, args.base_friction)
+            scene = layer_scene(args.thickness, h, scenes.transfer_arg(text), args.velocity, args.base_friction)
             (folder / "scene.json").write_text(json.dumps(scene))
             done = subprocess.run([str(args.build.resolve() / "mpm_solver" / "mpm_solver"), str(folder / "scene.json"),
                                    "--out", str(folder / "run"), "--threads", "1"], capture_output=True, text=True)

@@ -72,6 +72,33 @@ def add_points_per_cell_option(parser, default, help_text):
     parser.add_argument("--points-per-cell", type=at_least_one, default=default, help=help_text)
 
 
+def transfer_arg(text):
+    """The scene's integration.transfer named by `text`: "apic", "pic", "apic_flip:RATE" (APIC-FLIP with
+    RATE PIC per second) or RATE alone (the FLIP/PIC blend)."""
+    if text in ("apic", "pic"):
+        return text
+    try:
+        if text.startswith("apic_flip:"):
+            return {"apic_flip": {"pic_rate": float(text.split(":", 1)[1])}}
+        return {"flip_pic": {"pic_rate": float(text)}}
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected apic, pic, RATE or apic_flip:RATE, got {text}") from None
+
+
+def transfer_name(text):
+    """`text` itself once transfer_arg accepts it: an argparse type for options that keep the name."""
+    transfer_arg(text)
+    return text
+
+
+def transfer_settings(text):
+    """({JSON pointer: value} setting the transfer `text` names (transfer_arg), the suffix naming such a
+    run); ({}, "") for None, the scene's own transfer."""
+    if text is None:
+        return {}, ""
+    return {"/integration/transfer": transfer_arg(text)}, "_" + text.replace(":", "")
+
+
 def regularization_settings(nonlocal_length):
     """({JSON pointer: value} regularizing a scene over `nonlocal_length` [m] (the scene's
     regularization.nonlocal_length), the suffix naming such a run); ({}, "") for None, a local run."""
