@@ -57,6 +57,8 @@ std::string at_time(double t) {
 Solver::Solver(Grid grid, SolverSettings settings)
     : grid_(std::move(grid)), settings_(settings), buffers_(grid_.node_count()) {
   if (!(settings_.transfer.pic_rate >= 0)) throw std::invalid_argument("pic_rate: expected a number >= 0 [1/s]");
+  if (settings_.transfer.noise_rate && !(*settings_.transfer.noise_rate >= 0))
+    throw std::invalid_argument("noise_rate: expected a number >= 0 [1/s]");
   if (!(settings_.time_step.cfl > 0) || !(settings_.time_step.contact > 0))
     throw std::invalid_argument("time-step factors must be positive");
   if (!(settings_.skip_strain_increment >= 0))
@@ -151,7 +153,9 @@ void Solver::step(double dt) {
     if (drive) impose_homogeneous_velocity(grid_, *drive);
   });
   timed(phase_times_.grid_to_particles, [&] {
-    grid_to_particles(grid_, points_, stencils_, dt, settings_.transfer);
+    grid_to_particles(grid_, points_, stencils_, dt, settings_.transfer, fluctuations_);
+    if (settings_.transfer.splits_fluctuations())
+      blend_in_fluctuations(grid_, points_, stencils_, fluctuations_, dt, settings_.transfer, buffers_);
     remap_velocities(grid_, points_, stencils_, buffers_);
     if (drive) impose_homogeneous_velocity(grid_, *drive);
   });

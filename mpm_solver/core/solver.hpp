@@ -134,6 +134,7 @@ class Solver {
   };
   std::vector<std::vector<TouchingContact>> touching_;  // this step's contacts, per OpenMP thread
   std::vector<Stencil> stencils_;
+  std::vector<Vec2> fluctuations_;  // G2P's d_p, when the transfer blends its rough part apart
   std::vector<Obstacle> obstacles_;
   Gravity gravity_;
   ScatterBuffers buffers_;

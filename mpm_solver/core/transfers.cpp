@@ -10,22 +10,20 @@ namespace grainbank::mpm {
 
 namespace {
 
-// Runs scatter(point, stencil, sums) for every point in parallel, each thread into its own buffer,
+// Runs scatter(p, sums) for every point index p < n in parallel, each thread into its own buffer,
 // then adds the buffers into grid.sums (momentum only when only momentum was scattered).
 template <bool MomentumOnly, class Scatter>
-void scatter_points(Grid& grid, const std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
-                    ScatterBuffers& buffers, Scatter&& scatter) {
-  const long n = static_cast<long>(points.size());
+void scatter_points(Grid& grid, long n, ScatterBuffers& buffers, Scatter&& scatter) {
   const int threads = static_cast<int>(buffers.per_thread.size());
   if (threads == 1 || n < kMinParallelItems) {
-    for (long p = 0; p < n; ++p) scatter(points[p], stencils[p], grid.sums);
+    for (long p = 0; p < n; ++p) scatter(p, grid.sums);
     return;
   }
 #pragma omp parallel num_threads(threads)
   {
     NodeSums& mine = buffers.per_thread[omp_get_thread_num()];
 #pragma omp for schedule(static)
-    for (long p = 0; p < n; ++p) scatter(points[p], stencils[p], mine);
+    for (long p = 0; p < n; ++p) scatter(p, mine);
   }
   const long nodes = static_cast<long>(grid.node_count());
 #pragma omp parallel for schedule(static) num_threads(threads) if (nodes >= kMinParallelItems)
@@ -72,7 +70,10 @@ void particles_to_grid(Grid& grid, const std::vector<MaterialPoint>& points, con
   grid.sums.clear();
   const std::size_t stride = grid.nodes_x();
   const double h = grid.cell_size();
-  scatter_points<false>(grid, points, stencils, buffers, [stride, h](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
+  const long n = static_cast<long>(points.size());
+  scatter_points<false>(grid, n, buffers, [&points, &stencils, stride, h](long p, NodeSums& acc) {
+    const MaterialPoint& mp = points[p];
+    const Stencil& s = stencils[p];
     const AffineMomentum momentum(mp, h);
     const Mat2 vs = mp.volume * mp.stress.in_plane;
     for (int b = 0; b < 4; ++b) {
@@ -149,11 +150,12 @@ void update_grid(Grid& grid, const Vec2& gravity) {
 }
 
 void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
-                       double dt, const VelocityTransfer& transfer) {
+                       double dt, const VelocityTransfer& transfer, std::vector<Vec2>& fluctuations) {
   const std::size_t stride = grid.nodes_x();
-  const bool affine = transfer.affine();
-  const double w = transfer.pic_weight(dt);
+  const bool affine = transfer.affine(), split = transfer.splits_fluctuations();
+  const double kept = transfer.kept_share(dt);
   const long n = static_cast<long>(points.size());
+  if (split) fluctuations.resize(points.size());
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
     const Stencil& s = stencils[p];
@@ -173,8 +175,44 @@ void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, con
     }
     MaterialPoint& mp = points[p];
     mp.position += dt * v;
-    mp.velocity = w * v + (1 - w) * (mp.velocity + dt * a);
+    const Vec2 fluctuation = mp.velocity + dt * a - v;
+    if (split) {
+      fluctuations[p] = fluctuation;
+      mp.velocity = v;
+    } else {
+      mp.velocity = v + kept * fluctuation;
+    }
     if (affine) mp.affine_velocity << b00, b01, b10, b11;
+  }
+}
+
+void blend_in_fluctuations(Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
+                           const std::vector<Vec2>& fluctuations, double dt, const VelocityTransfer& transfer,
+                           ScatterBuffers& buffers) {
+  std::fill(grid.sums.momentum.begin(), grid.sums.momentum.end(), Vec2::Zero());
+  const std::size_t stride = grid.nodes_x();
+  const long n = static_cast<long>(points.size());
+  scatter_points<true>(grid, n, buffers, [&](long p, NodeSums& acc) {
+    const Stencil& s = stencils[p];
+    const Vec2 momentum = points[p].mass * fluctuations[p];
+    for (int b = 0; b < 4; ++b) {
+      const std::size_t row = s.first_node + b * stride;
+      for (int a = 0; a < 4; ++a) acc.momentum[row + a] += (s.wx[a] * s.wy[b]) * momentum;
+    }
+  });
+  const double kept_carried = transfer.kept_share(dt), kept_rough = transfer.kept_rough_share(dt);
+#pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
+  for (long p = 0; p < n; ++p) {
+    const Stencil& s = stencils[p];
+    Vec2 carried = Vec2::Zero();
+    for (int b = 0; b < 4; ++b) {
+      const std::size_t row = s.first_node + b * stride;
+      for (int a = 0; a < 4; ++a) {
+        const double m = grid.sums.mass[row + a];
+        if (m > 0) carried += (s.wx[a] * s.wy[b] / m) * grid.sums.momentum[row + a];
+      }
+    }
+    points[p].velocity += kept_carried * carried + kept_rough * (fluctuations[p] - carried);
   }
 }
 
@@ -183,8 +221,9 @@ void remap_velocities(Grid& grid, const std::vector<MaterialPoint>& points, cons
   std::fill(grid.sums.momentum.begin(), grid.sums.momentum.end(), Vec2::Zero());
   const std::size_t stride = grid.nodes_x();
   const double h = grid.cell_size();
-  scatter_points<true>(grid, points, stencils, buffers, [stride, h](const MaterialPoint& mp, const Stencil& s, NodeSums& acc) {
-    const AffineMomentum momentum(mp, h);
+  scatter_points<true>(grid, static_cast<long>(points.size()), buffers, [&points, &stencils, stride, h](long p, NodeSums& acc) {
+    const Stencil& s = stencils[p];
+    const AffineMomentum momentum(points[p], h);
     for (int b = 0; b < 4; ++b) {
       const std::size_t row = s.first_node + b * stride;
       for (int a = 0; a < 4; ++a) acc.momentum[row + a] += (s.wx[a] * s.wy[b]) * momentum.at(s, a, b);

@@ -3,6 +3,7 @@
 // threads never write the same node; gathers (node → point) only read the grid.
 #pragma once
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "mpm_solver/core/bspline.hpp"
@@ -23,13 +24,28 @@ struct VelocityTransfer {
   // runout hardly depends on the rate (1.389 at 5/s, 1.384 at 20/s, L0/h = 10, when it was chosen).
   Kind kind = Kind::apic_flip;
   // Blends only: the PIC fraction per unit time r [1/s], so that the damping does not depend on
-  // the time step: a step of Δt blends in the PIC velocity with weight 1 − exp(−r Δt). 0 = pure
+  // the time step: a step of Δt keeps the share e^{−r Δt} of a point's fluctuation (what FLIP keeps
+  // of v_p beyond the PIC velocity Σ N v_i') and blends in the PIC velocity for the rest. 0 = pure
   // FLIP, ∞ = pure PIC.
   double pic_rate = 5;
+  // Blends only, optional: the rate r_n [1/s] for the fluctuation's rough part, what a round trip
+  // through the grid does not bring back (blend_in_fluctuations); r applies to the part it does.
+  // With more points than nodes the rough part is how a column's points ring against each other at
+  // rest without the grid resolving it; the remap passes it into the velocity gradient that loads
+  // the points' laws. Unset: r_n = r, one blend.
+  std::optional<double> noise_rate;
 
   // Whether points carry the affine velocity B_p (APIC's P2G and B_p update).
   bool affine() const { return kind != Kind::flip_pic; }
   double pic_weight(double dt) const { return kind == Kind::apic ? 1.0 : -std::expm1(-pic_rate * dt); }
+  // The share of a point's fluctuation a step of Δt keeps, e^{−r Δt} (0 under APIC), and of its
+  // rough part, e^{−r_n Δt}.
+  double kept_share(double dt) const { return 1 - pic_weight(dt); }
+  double kept_rough_share(double dt) const {
+    return kind == Kind::apic ? 0.0 : std::exp(-noise_rate.value_or(pic_rate) * dt);
+  }
+  // Whether the rough part has a rate of its own (then G2P leaves the blending to blend_in_fluctuations).
+  bool splits_fluctuations() const { return kind != Kind::apic && noise_rate && *noise_rate != pic_rate; }
 };
 
 // Per-thread accumulators, sized to the grid.
@@ -77,13 +93,24 @@ void add_contact_force(Grid& grid, const ContactSpread& spread, const Vec2& f);
 // Nodal velocity v_i = q_i / m_i and acceleration a_i = f_i / m_i + g at nodes carrying mass.
 void update_grid(Grid& grid, const Vec2& gravity);
 
-// G2P with the updated nodal velocities v_i' = v_i + Δt a_i and the PIC weight w of the transfer
-// (1 under APIC): v_p ← w Σ N v_i' + (1 − w)(v_p + Δt Σ N a_i); affine transfers also set
+// G2P with the updated nodal velocities v_i' = v_i + Δt a_i: the PIC velocity Σ N v_i' and the
+// fluctuation d_p = v_p + Δt Σ N a_i − Σ N v_i', what FLIP keeps beyond it;
+// v_p ← Σ N v_i' + e^{−r Δt} d_p, or, when the transfer splits its fluctuations, v_p ← Σ N v_i' and
+// d_p into `fluctuations[p]` for blend_in_fluctuations. Affine transfers also set
 // B_p ← Σ N v_i' (x_i − x_p)ᵀ.
 // Positions by the standard MUSL update x_p += Δt Σ N v_i' (symplectic Euler: a point bouncing on
 // a penalty obstacle neither gains nor loses energy on average).
 void grid_to_particles(const Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
-                       double dt, const VelocityTransfer& transfer);
+                       double dt, const VelocityTransfer& transfer, std::vector<Vec2>& fluctuations);
+
+// v_p += e^{−r Δt} s_p + e^{−r_n Δt} (d_p − s_p), with s_p = Σ_i N_ip d_i, d_i = Σ_p N_ip m_p d_p / m_i:
+// the part of the fluctuation d_p that a round trip through the grid brings back, and the rough rest
+// (in the spirit of Hammerquist & Nairn's XPIC, 2017). The rest carries no momentum,
+// Σ_p m_p (d_p − s_p) = Σ m_p d_p − Σ_i m_i d_i = 0, so blending it out at any rate conserves
+// momentum. Uses grid.sums.momentum as scratch: the MUSL remap that follows rebuilds it.
+void blend_in_fluctuations(Grid& grid, std::vector<MaterialPoint>& points, const std::vector<Stencil>& stencils,
+                           const std::vector<Vec2>& fluctuations, double dt, const VelocityTransfer& transfer,
+                           ScatterBuffers& buffers);
 
 // MUSL remap: nodal velocities again from the updated point velocities, by the same (affine)
 // momentum transfer as P2G, so that the velocity gradient of the stress update sees them.

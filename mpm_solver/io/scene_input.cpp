@@ -48,11 +48,11 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
 }
 
 // "apic" | "pic" | {"apic_flip": {"pic_rate": r}} | {"flip_pic": {"pic_rate": r}}, r the PIC
-// fraction per second.
+// fraction per second, and in either blend optionally "noise_rate": r_n, that of the rough part.
 VelocityTransfer read_transfer(const JsonNode& node) {
   constexpr std::string_view expected =
       "\"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the "
-      "PIC fraction per second)";
+      "PIC fraction per second; optional \"noise_rate\" >= 0: that of the fluctuations' rough part)";
   VelocityTransfer transfer;
   if (node.value().is_string()) {
     const std::string name = node.string();
@@ -66,9 +66,10 @@ VelocityTransfer read_transfer(const JsonNode& node) {
   if (node.value().size() != 1) node.fail_expected(expected);
   const bool affine = node.has("apic_flip");
   const JsonNode blend = node.at(affine ? "apic_flip" : "flip_pic", expected);
-  blend.allow_only({"pic_rate"});
+  blend.allow_only({"pic_rate", "noise_rate"});
   transfer.kind = affine ? VelocityTransfer::Kind::apic_flip : VelocityTransfer::Kind::flip_pic;
   transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
+  if (blend.has("noise_rate")) transfer.noise_rate = blend.number("noise_rate", Range::at_least(0));
   return transfer;
 }
 

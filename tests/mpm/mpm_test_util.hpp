@@ -16,6 +16,10 @@ namespace grainbank::mpm::testing {
 // blend with a PIC fraction per second, pure FLIP (rate 0) and pure PIC (rate ∞).
 inline VelocityTransfer apic() { return {VelocityTransfer::Kind::apic}; }
 inline VelocityTransfer apic_flip(double pic_rate) { return {VelocityTransfer::Kind::apic_flip, pic_rate}; }
+// APIC-FLIP whose fluctuations' rough part blends out at its own rate.
+inline VelocityTransfer apic_flip(double pic_rate, double noise_rate) {
+  return {VelocityTransfer::Kind::apic_flip, pic_rate, noise_rate};
+}
 inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate}; }
 inline VelocityTransfer pure_flip() { return flip_pic(0); }
 inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>::infinity()); }
@@ -23,7 +27,8 @@ inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>
 inline std::string describe(const VelocityTransfer& t) {
   if (t.kind == VelocityTransfer::Kind::apic) return "apic";
   return (t.kind == VelocityTransfer::Kind::apic_flip ? "apic_flip" : "flip_pic") + std::string(", pic_rate ") +
-         std::to_string(t.pic_rate) + "/s";
+         std::to_string(t.pic_rate) + "/s" +
+         (t.noise_rate ? ", noise_rate " + std::to_string(*t.noise_rate) + "/s" : std::string());
 }
 
 inline SolverSettings settings_with(const VelocityTransfer& transfer) {

@@ -79,6 +79,14 @@ TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
   EXPECT_TRUE(affine_blend.affine());
   EXPECT_DOUBLE_EQ(affine_blend.pic_rate, 2);
   EXPECT_NEAR(affine_blend.pic_weight(0.01), 1 - std::exp(-0.02), 1e-15);
+  EXPECT_FALSE(affine_blend.noise_rate) << "one blend unless the rough part gets a rate of its own";
+  EXPECT_FALSE(affine_blend.splits_fluctuations());
+  const VelocityTransfer split = transfer_of("{\"apic_flip\": {\"pic_rate\": 2, \"noise_rate\": 50}}");
+  ASSERT_TRUE(split.noise_rate);
+  EXPECT_DOUBLE_EQ(*split.noise_rate, 50);
+  EXPECT_TRUE(split.splits_fluctuations());
+  EXPECT_NEAR(split.kept_rough_share(0.01), std::exp(-0.5), 1e-15);
+  EXPECT_NEAR(split.kept_share(0.01), std::exp(-0.02), 1e-15);
 }
 
 TEST(Scene, RegularizationSetsTheNonlocalLength) {
@@ -137,12 +145,18 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
   const std::string time = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
   expect_error(time, time + "\"integration\": {\"transfer\": \"flip\"},",
                "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
-               "the PIC fraction per second), got a string (\"flip\")");
+               "the PIC fraction per second; optional \"noise_rate\" >= 0: that of the fluctuations' rough part), "
+               "got a string (\"flip\")");
   expect_error(time, time + "\"integration\": {\"transfer\": {\"flip_pic\": {\"pic_rate\": -1}}},",
                "bad.json: /integration/transfer/flip_pic/pic_rate: expected a number >= 0, got -1");
   expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 1}, \"flip_pic\": {\"pic_rate\": 1}}},",
                "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or "
-               "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second), got an object");
+               "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second; optional \"noise_rate\" >= 0: "
+               "that of the fluctuations' rough part), got an object");
+  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 5, \"noise_rate\": -1}}},",
+               "bad.json: /integration/transfer/apic_flip/noise_rate: expected a number >= 0, got -1");
+  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 5, \"noise\": 50}}},",
+               "bad.json: /integration/transfer/apic_flip/noise: unknown key; allowed keys here: pic_rate, noise_rate");
   // The former per-step blend is refused with its replacement, not as an unknown key.
   expect_error(time, time + "\"integration\": {\"flip\": 0.95},",
                "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": "
