@@ -22,6 +22,7 @@ struct VelocityTransfer {
   // depend on Δt (issue 17); at rates of 0 to 1/s the elastic ringing of a settled granular column
   // never decays (its kinetic energy stays above 1e-4 of the peak), from 5/s on it does, while the
   // runout hardly depends on the rate (1.389 at 5/s, 1.384 at 20/s, L0/h = 10, when it was chosen).
+  // Since stop 78 the fluctuations' rough part blends out at 50/s (noise_rate).
   Kind kind = Kind::apic_flip;
   // Blends only: the PIC fraction per unit time r [1/s], so that the damping does not depend on
   // the time step: a step of Δt keeps the share e^{−r Δt} of a point's fluctuation (what FLIP keeps
@@ -30,10 +31,13 @@ struct VelocityTransfer {
   double pic_rate = 5;
   // Blends only, optional: the rate r_n [1/s] for the fluctuation's rough part, what a round trip
   // through the grid does not bring back (blend_in_fluctuations); r applies to the part it does.
-  // With more points than nodes the rough part is how a column's points ring against each other at
-  // rest without the grid resolving it; the remap passes it into the velocity gradient that loads
-  // the points' laws. Unset: r_n = r, one blend.
-  std::optional<double> noise_rate;
+  // Unset: r_n = r, one blend. With more points than nodes the rough part is how a body's points
+  // ring against each other without the grid resolving it, and the MUSL remap passes it into the
+  // velocity gradient that loads the points' laws. At the default 50/s (APIC-FLIP's; the FLIP/PIC
+  // blend of the seed keeps one rate) a cohesive column of live cells at two points per cell stands
+  // where it does at one, instead of breaking its toe's bonds under that ringing (issue 18, stop 78).
+  static constexpr double kDefaultNoiseRate = 50;
+  std::optional<double> noise_rate = kDefaultNoiseRate;
 
   // Whether points carry the affine velocity B_p (APIC's P2G and B_p update).
   bool affine() const { return kind != Kind::flip_pic; }

@@ -48,7 +48,8 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
 }
 
 // "apic" | "pic" | {"apic_flip": {"pic_rate": r}} | {"flip_pic": {"pic_rate": r}}, r the PIC
-// fraction per second, and in either blend optionally "noise_rate": r_n, that of the rough part.
+// fraction per second, and in either blend optionally "noise_rate": r_n, that of the rough part
+// (default: 50 under APIC-FLIP, r under the FLIP/PIC blend).
 VelocityTransfer read_transfer(const JsonNode& node) {
   constexpr std::string_view expected =
       "\"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the "
@@ -59,6 +60,7 @@ VelocityTransfer read_transfer(const JsonNode& node) {
     if (name != "apic" && name != "pic") node.fail_expected(expected);
     transfer.kind = name == "apic" ? VelocityTransfer::Kind::apic : VelocityTransfer::Kind::flip_pic;
     transfer.pic_rate = kInfinity;
+    transfer.noise_rate.reset();
     return transfer;
   }
   if (!node.value().is_object()) node.fail_expected(expected);
@@ -69,7 +71,10 @@ VelocityTransfer read_transfer(const JsonNode& node) {
   blend.allow_only({"pic_rate", "noise_rate"});
   transfer.kind = affine ? VelocityTransfer::Kind::apic_flip : VelocityTransfer::Kind::flip_pic;
   transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
-  if (blend.has("noise_rate")) transfer.noise_rate = blend.number("noise_rate", Range::at_least(0));
+  if (blend.has("noise_rate"))
+    transfer.noise_rate = blend.number("noise_rate", Range::at_least(0));
+  else if (!affine)
+    transfer.noise_rate.reset();  // the seed's blend: one rate unless asked
   return transfer;
 }
 

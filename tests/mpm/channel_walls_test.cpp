@@ -24,7 +24,7 @@ constexpr double kCell = 0.025;
 // An elastic block kLength × kDepth, 2 × 2 points per cell, resting on a frictionless line through
 // `corner` along `along` (unit), moving along it at `speed`, between walls `walls` (none if empty).
 Solver block_on_a_line(const Vec2& corner, const Vec2& along, double speed, std::optional<ChannelWalls> walls) {
-  SolverSettings settings = testing::settings_with(testing::apic_flip(5));
+  SolverSettings settings = testing::settings_with(VelocityTransfer{});
   settings.channel_walls = walls;
   Solver solver(Grid(Vec2(-0.1, -0.6), kCell, 60, 32), settings);
   solver.add_law(std::make_unique<ElasticLaw>(kDensity, Elasticity{kYoung, kPoisson}));

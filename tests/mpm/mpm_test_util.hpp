@@ -12,15 +12,15 @@
 
 namespace grainbank::mpm::testing {
 
-// The velocity transfers: APIC, the FLIP/PIC blend with APIC's affine velocities, the FLIP/PIC
-// blend with a PIC fraction per second, pure FLIP (rate 0) and pure PIC (rate ∞).
+// The velocity transfers: APIC, the FLIP/PIC blend with APIC's affine velocities at one rate or with
+// its fluctuations' rough part at a rate of its own (VelocityTransfer{} is the default, 5 and 50/s),
+// the FLIP/PIC blend with a PIC fraction per second, pure FLIP (rate 0) and pure PIC (rate ∞).
 inline VelocityTransfer apic() { return {VelocityTransfer::Kind::apic}; }
-inline VelocityTransfer apic_flip(double pic_rate) { return {VelocityTransfer::Kind::apic_flip, pic_rate}; }
-// APIC-FLIP whose fluctuations' rough part blends out at its own rate.
+inline VelocityTransfer apic_flip(double pic_rate) { return {VelocityTransfer::Kind::apic_flip, pic_rate, std::nullopt}; }
 inline VelocityTransfer apic_flip(double pic_rate, double noise_rate) {
   return {VelocityTransfer::Kind::apic_flip, pic_rate, noise_rate};
 }
-inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate}; }
+inline VelocityTransfer flip_pic(double pic_rate) { return {VelocityTransfer::Kind::flip_pic, pic_rate, std::nullopt}; }
 inline VelocityTransfer pure_flip() { return flip_pic(0); }
 inline VelocityTransfer pure_pic() { return flip_pic(std::numeric_limits<double>::infinity()); }
 

@@ -120,7 +120,7 @@ TEST(NonlocalAverage, DrivesABandOfOneCellAtARateSetByTheLength) {
 TEST(NonlocalAverage, AnElasticColumnSettlesToTheGeostaticStress) {
   using Column = testing::SelfWeightColumn;
   const double length = 4 * Column::h;
-  SolverSettings settings = testing::settings_with(testing::apic_flip(5));
+  SolverSettings settings = testing::settings_with(VelocityTransfer{});
   settings.regularization.emplace(length);
   const Column column(settings, 1.5);
   const double scale = Column::rho * Column::g * Column::height;

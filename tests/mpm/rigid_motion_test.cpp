@@ -16,7 +16,7 @@ using testing::positions_by_id;
 using testing::run_until;
 
 TEST(RigidMotion, UniformTranslationIsExactAndStressFree) {
-  for (const VelocityTransfer& transfer : {testing::apic(), testing::apic_flip(0), testing::apic_flip(5)}) {
+  for (const VelocityTransfer& transfer : {testing::apic(), testing::apic_flip(0), VelocityTransfer{}}) {
     SCOPED_TRACE(testing::describe(transfer));
     Solver solver = elastic_solver(Grid(Vec2(0, 0), 0.1, 20, 10), 1000, 1e6, 0.3, transfer);
     const Vec2 v0(1.0, 0.5);

@@ -79,8 +79,14 @@ TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
   EXPECT_TRUE(affine_blend.affine());
   EXPECT_DOUBLE_EQ(affine_blend.pic_rate, 2);
   EXPECT_NEAR(affine_blend.pic_weight(0.01), 1 - std::exp(-0.02), 1e-15);
-  EXPECT_FALSE(affine_blend.noise_rate) << "one blend unless the rough part gets a rate of its own";
-  EXPECT_FALSE(affine_blend.splits_fluctuations());
+  ASSERT_TRUE(affine_blend.noise_rate) << "APIC-FLIP blends its fluctuations' rough part at its own rate";
+  EXPECT_DOUBLE_EQ(*affine_blend.noise_rate, VelocityTransfer::kDefaultNoiseRate);
+  EXPECT_TRUE(affine_blend.splits_fluctuations());
+  EXPECT_FALSE(blend.noise_rate) << "the seed's FLIP/PIC blend keeps one rate";
+  EXPECT_FALSE(blend.splits_fluctuations());
+  EXPECT_FALSE(pic.splits_fluctuations());
+  const VelocityTransfer one_rate = transfer_of("{\"apic_flip\": {\"pic_rate\": 5, \"noise_rate\": 5}}");
+  EXPECT_FALSE(one_rate.splits_fluctuations()) << "stop 77's APIC-FLIP, asked for";
   const VelocityTransfer split = transfer_of("{\"apic_flip\": {\"pic_rate\": 2, \"noise_rate\": 50}}");
   ASSERT_TRUE(split.noise_rate);
   EXPECT_DOUBLE_EQ(*split.noise_rate, 50);
