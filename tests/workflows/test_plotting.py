@@ -7,7 +7,7 @@ import json
 import numpy as np
 
 from workflow_test_util import BUILD, TINY_SCENE, WorkflowTest, run_rigid_translation
-from plotting import flow, png, run_compare, spreading, tables, vtu
+from plotting import flow, fluctuations, png, run_compare, spreading, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
 
@@ -169,6 +169,35 @@ class SpreadingTest(WorkflowTest):
         self.assertEqual((even["deposit_left"], even["deposit_right"], even["detached_points"]), (1.0, 1.0, 0))
         self.assertEqual((ahead["runout_left"], ahead["runout_right"]), (1.0, 4.5))
         self.assertEqual((ahead["deposit_left"], ahead["deposit_right"], ahead["detached_points"]), (1.0, 1.0, 1))
+
+
+class FluctuationsTest(WorkflowTest):
+    """fluctuations.split: a round trip through the grid brings back a smooth field and not a pattern that
+    alternates from point to point (2 × 2 points per cell)."""
+
+    def setUp(self):
+        super().setUp()
+        h, spacing = 0.05, 0.025
+        i, j = np.meshgrid(np.arange(8, 32), np.arange(8, 32), indexing="ij")
+        self.xy = np.c_[(i.ravel() + 0.5) * spacing, (j.ravel() + 0.5) * spacing]
+        self.sign = np.where((i.ravel() + j.ravel()) % 2 == 0, 1.0, -1.0)
+        self.mass, self.h = np.full(len(self.xy), 2.0), h
+
+    def test_a_uniform_velocity_is_carried_whole(self):
+        velocity = np.tile([0.1, -0.05], (len(self.xy), 1))
+        carried, fluctuation, _, rough = fluctuations.split(self.xy, velocity, self.mass, self.h)
+        np.testing.assert_allclose(carried, velocity, atol=1e-15)
+        self.assertLess(fluctuations.rms(fluctuation), 1e-15)
+        self.assertLess(fluctuations.rms(rough), 1e-15)
+
+    def test_a_point_to_point_pattern_is_almost_all_rough_and_carries_no_momentum(self):
+        velocity = np.c_[0.01 * self.sign, np.zeros(len(self.xy))]
+        carried, fluctuation, carried_fluctuation, rough = fluctuations.split(self.xy, velocity, self.mass, self.h)
+        self.assertLess(fluctuations.rms(carried), 0.01 * fluctuations.rms(velocity))
+        self.assertGreater(fluctuations.rms(rough), 0.99 * fluctuations.rms(velocity))
+        np.testing.assert_allclose((self.mass[:, None] * rough).sum(axis=0), 0, atol=1e-15)
+        shifted = fluctuations.split(self.xy + 0.3, velocity, self.mass, self.h, origin=(0.3, 0.3))
+        np.testing.assert_allclose(shifted[3], rough, atol=1e-15)
 
 
 class TablesTest(WorkflowTest):
