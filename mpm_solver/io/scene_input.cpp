@@ -49,7 +49,7 @@ HomogeneousDrive read_homogeneous_drive(const JsonNode& node) {
 
 // "apic" | "pic" | {"apic_flip": {"pic_rate": r}} | {"flip_pic": {"pic_rate": r}}, r the PIC
 // fraction per second, and in either blend optionally "noise_rate": r_n, that of the rough part
-// (default: 50 under APIC-FLIP, r under the FLIP/PIC blend).
+// (default: the larger of 50 and r under APIC-FLIP, r under the FLIP/PIC blend).
 VelocityTransfer read_transfer(const JsonNode& node) {
   constexpr std::string_view expected =
       "\"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the "
@@ -73,7 +73,9 @@ VelocityTransfer read_transfer(const JsonNode& node) {
   transfer.pic_rate = blend.number("pic_rate", Range::at_least(0));
   if (blend.has("noise_rate"))
     transfer.noise_rate = blend.number("noise_rate", Range::at_least(0));
-  else if (!affine)
+  else if (affine)  // never slower than the rest: a faster pic_rate alone still means one blend
+    transfer.noise_rate = std::max(VelocityTransfer::kDefaultNoiseRate, transfer.pic_rate);
+  else
     transfer.noise_rate.reset();  // the seed's blend: one rate unless asked
   return transfer;
 }

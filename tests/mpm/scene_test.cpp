@@ -87,6 +87,9 @@ TEST(Scene, TransferIsApicPicOrABlendWithOrWithoutAffineVelocities) {
   EXPECT_FALSE(pic.splits_fluctuations());
   const VelocityTransfer one_rate = transfer_of("{\"apic_flip\": {\"pic_rate\": 5, \"noise_rate\": 5}}");
   EXPECT_FALSE(one_rate.splits_fluctuations()) << "stop 77's APIC-FLIP, asked for";
+  const VelocityTransfer fast = transfer_of("{\"apic_flip\": {\"pic_rate\": 500}}");
+  EXPECT_FALSE(fast.splits_fluctuations()) << "the rough part is never blended slower than the rest by default";
+  EXPECT_NEAR(fast.kept_rough_share(0.01), fast.kept_share(0.01), 1e-15);
   const VelocityTransfer split = transfer_of("{\"apic_flip\": {\"pic_rate\": 2, \"noise_rate\": 50}}");
   ASSERT_TRUE(split.noise_rate);
   EXPECT_DOUBLE_EQ(*split.noise_rate, 50);
