@@ -152,20 +152,20 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
   expect_error("\"law\": \"elastic\"", "\"law\": \"plastic\"",
                "bad.json: /materials/0/law: expected " + law_names() + ", got a string (\"plastic\")");
   const std::string time = "\"time\": {\"end\": 0.02, \"output_interval\": 0.01},";
-  expect_error(time, time + "\"integration\": {\"transfer\": \"flip\"},",
-               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
-               "the PIC fraction per second; optional \"noise_rate\" >= 0: that of the fluctuations' rough part), "
-               "got a string (\"flip\")");
-  expect_error(time, time + "\"integration\": {\"transfer\": {\"flip_pic\": {\"pic_rate\": -1}}},",
-               "bad.json: /integration/transfer/flip_pic/pic_rate: expected a number >= 0, got -1");
-  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 1}, \"flip_pic\": {\"pic_rate\": 1}}},",
-               "bad.json: /integration/transfer: expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or "
-               "{\"flip_pic\": {\"pic_rate\": r}} (r >= 0: the PIC fraction per second; optional \"noise_rate\" >= 0: "
-               "that of the fluctuations' rough part), got an object");
-  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 5, \"noise_rate\": -1}}},",
-               "bad.json: /integration/transfer/apic_flip/noise_rate: expected a number >= 0, got -1");
-  expect_error(time, time + "\"integration\": {\"transfer\": {\"apic_flip\": {\"pic_rate\": 5, \"noise\": 50}}},",
-               "bad.json: /integration/transfer/apic_flip/noise: unknown key; allowed keys here: pic_rate, noise_rate");
+  const auto expect_transfer_error = [&](const std::string& transfer, const std::string& message) {
+    expect_error(time, time + "\"integration\": {\"transfer\": " + transfer + "},", "bad.json: /integration/transfer" + message);
+  };
+  const std::string transfer_expected =
+      ": expected \"apic\", \"pic\", {\"apic_flip\": {\"pic_rate\": r}} or {\"flip_pic\": {\"pic_rate\": r}} (r >= 0: "
+      "the PIC fraction per second; optional \"noise_rate\" >= 0: that of the fluctuations' rough part), ";
+  expect_transfer_error("\"flip\"", transfer_expected + "got a string (\"flip\")");
+  expect_transfer_error("{\"flip_pic\": {\"pic_rate\": -1}}", "/flip_pic/pic_rate: expected a number >= 0, got -1");
+  expect_transfer_error("{\"apic_flip\": {\"pic_rate\": 1}, \"flip_pic\": {\"pic_rate\": 1}}",
+                        transfer_expected + "got an object");
+  expect_transfer_error("{\"apic_flip\": {\"pic_rate\": 5, \"noise_rate\": -1}}",
+                        "/apic_flip/noise_rate: expected a number >= 0, got -1");
+  expect_transfer_error("{\"apic_flip\": {\"pic_rate\": 5, \"noise\": 50}}",
+                        "/apic_flip/noise: unknown key; allowed keys here: pic_rate, noise_rate");
   // The former per-step blend is refused with its replacement, not as an unknown key.
   expect_error(time, time + "\"integration\": {\"flip\": 0.95},",
                "bad.json: /integration/flip: the per-step blend \"flip\" was replaced by \"transfer\": {\"apic_flip\": "
