@@ -11,6 +11,7 @@ import unittest
 from workflow_test_util import BUILD, WORKFLOWS, WorkflowTest, run
 
 sys.path.insert(0, str(WORKFLOWS / "cohesive_column"))
+import corner_stress  # noqa: E402
 import live_threshold  # noqa: E402
 from plotting import scenes  # noqa: E402
 
@@ -96,13 +97,16 @@ class LiveThresholdTest(WorkflowTest):
         self.assertEqual(sorted(verdict["threshold_over_critical"]), ["local, H0/h = 4", "ℓ = 0.1 m, H0/h = 4"])
         self.assert_png(self.out / "live" / "live_threshold.png")
 
-    def test_refuses_points_per_cell_below_one_or_an_unknown_transfer_before_anything_runs(self):
+    def test_refuses_points_per_cell_below_one_an_unknown_transfer_or_a_bad_friction_before_anything_runs(self):
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--points-per-cell", "0")
         self.assertIn("--points-per-cell: expected an integer >= 1, got 0", str(refused.exception))
         with self.assertRaises(AssertionError) as refused:
             self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--transfer", "flip")
         self.assertIn("--transfer: expected apic, pic, RATE or apic_flip:RATE, got flip", str(refused.exception))
+        with self.assertRaises(AssertionError) as refused:
+            self.threshold(self.CELL, self.out / "never_read.json", "--heights", "0.05", "--floor-friction", "nan")
+        self.assertIn("--floor-friction: expected a friction coefficient >= 0, got nan", str(refused.exception))
         self.assertFalse((self.out / "live").exists())
 
     def test_refuses_the_prediction_of_another_cell_or_of_a_test_that_never_peaked(self):
@@ -136,6 +140,19 @@ class ThresholdResolutionTest(unittest.TestCase):
         self.assertEqual(live_threshold.threshold_brackets([one, two]),
                          {"local, H0/h = 6": (0.3, None), "local, H0/h = 6, 2 points per cell": (None, 0.3)})
 
+    def test_the_floor_friction_is_the_scenes_unless_given_and_is_bracketed_apart(self):
+        scene = json.loads(live_threshold.SCENE.read_text())
+        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1)
+        self.assertFalse([pointer for pointer in settings if pointer.endswith("/friction")])
+        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1, 0.0)
+        (floor,) = [k for k, o in enumerate(scene["obstacles"]) if o["line"][0][1] == o["line"][1][1]]
+        self.assertEqual(settings[f"/obstacles/{floor}/friction"], 0.0)
+        row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None}
+        rough, smooth = {**row, "stands": False}, {**row, "floor_friction": 0.0, "stands": True}
+        self.assertEqual(live_threshold.resolution(smooth), "local, H0/h = 6, floor friction 0")
+        self.assertEqual(live_threshold.threshold_brackets([rough, smooth]),
+                         {"local, H0/h = 6": (None, 0.3), "local, H0/h = 6, floor friction 0": (0.3, None)})
+
     def test_a_run_under_another_transfer_is_bracketed_apart(self):
         row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None, "points_per_cell": 2}
         default, damped = {**row, "stands": False}, {**row, "transfer": "apic_flip:50", "stands": True}
@@ -146,3 +163,32 @@ class ThresholdResolutionTest(unittest.TestCase):
         self.assertEqual(scenes.transfer_settings("apic_flip:50"),
                          ({"/integration/transfer": {"apic_flip": {"pic_rate": 50.0}}}, "_apic_flip50"))
         self.assertEqual(scenes.transfer_settings(None), ({}, ""))
+
+
+class CornerStressTest(WorkflowTest):
+    """corner_stress.py: the live column's elastic twins. Each settles in equilibrium, its bottom row
+    carrying the weight above it; on a frictionless floor nothing restrains the base, so the toe is in
+    uniaxial compression under its overburden; and one critical toe load either separates the live
+    verdicts or is said not to."""
+
+    def test_the_twins_carry_their_weight_and_a_frictionless_toe_is_uniaxial(self):
+        out = self.out / "corner"
+        run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "corner_stress.py", out, "--build", BUILD,
+             "--threads", "1", "--column", "0.3", "0.2", "--ratios", "3", "6", "--floor-friction", "0",
+             "--end", "0.5", "--average-from", "0.3"])
+        result = json.loads((out / "corner_stress.json").read_text())
+        self.assertEqual([r["ratio"] for r in result["refinement"]], [3, 6])
+        for r in result["refinement"]:
+            with self.subTest(ratio=r["ratio"]):
+                self.assertAlmostEqual(r["bottom_row_load"], 1, delta=0.05)
+                depth = 1 - 1 / (2 * r["ratio"])  # the toe point's, over H0
+                self.assertAlmostEqual(r["two_tau_max"], depth, delta=0.05 * depth)
+                self.assertLess(abs(r["sigma_1"]), 0.02)
+        self.assertIn("| 6 | (0.37500, 0.22500) |", (out / "corner_stress.md").read_text())
+
+    def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):
+        rows = [{"toe_load": 0.26, "stands": True}, {"toe_load": 0.28, "stands": True},
+                {"toe_load": 0.29, "stands": False}, {"toe_load": 0.31, "stands": False}]
+        self.assertEqual(corner_stress.critical_load(rows), (0.28, 0.29, True))
+        self.assertEqual(corner_stress.critical_load(rows + [{"toe_load": 0.30, "stands": True}]), (0.30, 0.29, False))
+        self.assertEqual(corner_stress.critical_load(rows[:2]), (0.28, None, True))

@@ -9,7 +9,10 @@ cell). The cost of a run grows as (H0/h)² √H0: a column resolved by ten or so
 affordable one. --nonlocal-length ℓ regularizes the cells (the scene's regularization.nonlocal_length:
 each cell driven by the velocity gradient averaged over ℓ, mpm_solver/core/nonlocal_average.hpp), so
 that runs at several h and one ℓ show whether the threshold converges once the material has an
-internal length; runs without it are local.
+internal length; runs without it are local. --floor-friction μ sets the floor's Coulomb friction
+(the scene's 0.5 by default): where a face meets a floor that holds it, the toe carries a stress
+concentration that a finer grid resolves further (corner_stress.py); on a frictionless floor it
+does not.
 
 The predictions come from the cell alone, each the highest vertical cut that stands in limit analysis
 (Chen's log-spiral, γ H_c / c = 3.83 tan(45° + φ/2)), run on the same --cell:
@@ -29,6 +32,7 @@ verdict otherwise.
                                      [--heights 0.05 0.1 0.15 0.2]
                                      [--width 0.15] [--cell-size 0.0125] [--nonlocal-length ℓ]
                                      [--points-per-cell 1] [--transfer apic|pic|RATE|apic_flip:RATE]
+                                     [--floor-friction MU]
                                      [--cell CELL.json]
                                      [--build BUILD] [--threads N] [--watch 4]
 
@@ -56,12 +60,13 @@ MIN_WATCH = 0.3  # [s] after the gate, at least
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 
-def column_settings(scene, height, width, h, nonlocal_length, points_per_cell):
+def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, floor_friction=None):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
     `h`, `points_per_cell` points (cells) per grid cell and direction, with room for a runout of three
     times the larger of the two and a floor under all of it, the gate's removal time), regularized over
-    `nonlocal_length` unless it is None. The grid's lines pass through the column's base and back wall,
-    so that its points sit whole cells' halves off them."""
+    `nonlocal_length` unless it is None, on a floor of Coulomb friction `floor_friction` (None: the
+    scene's). The grid's lines pass through the column's base and back wall, so that its points sit
+    whole cells' halves off them."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
     (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
@@ -73,18 +78,22 @@ def column_settings(scene, height, width, h, nonlocal_length, points_per_cell):
             "/regions/0/rectangle/max": [face, y0 + height], "/regions/0/points_per_cell": points_per_cell,
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
+            **({} if floor_friction is None else {f"/obstacles/{floor}/friction": floor_friction}),
             "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
 
 
-def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, transfer, watch, threads):
+def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, floor_friction, transfer, watch,
+               threads):
     """One live column of height `height` [m]; returns its row of the table."""
-    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length, points_per_cell)
+    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length, points_per_cell,
+                                     floor_friction)
     end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
     transfer_setting, transfer_suffix = scenes.transfer_settings(transfer)
     settings.update(transfer_setting)
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
-            + (f"_ppc{points_per_cell}" if points_per_cell != 1 else "") + transfer_suffix)
+            + (f"_ppc{points_per_cell}" if points_per_cell != 1 else "")
+            + ("" if floor_friction is None else f"_floor{floor_friction:g}") + transfer_suffix)
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -96,7 +105,8 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
     first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
-           "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "transfer": transfer, "end": float(series["t"][-1]),
+           "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "floor_friction": floor_friction,
+           "transfer": transfer, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
@@ -129,6 +139,7 @@ def resolution(row):
     points per cell" where it had more than one."""
     label = f"{regularization(row)}, H0/h = {round(row['height'] / row['cell_size'])}"
     label += f", {points_per_cell(row)} points per cell" if points_per_cell(row) != 1 else ""
+    label += f", floor friction {row['floor_friction']:g}" if row.get("floor_friction") is not None else ""
     return label + (f", transfer {row['transfer']}" if row.get("transfer") else "")
 
 
@@ -231,6 +242,8 @@ def main():
     parser.add_argument("--transfer", type=scenes.transfer_name, help="apic, pic, RATE or apic_flip:RATE (default: the scene's, APIC-FLIP at "
                         "5 PIC per second)")
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
+    parser.add_argument("--floor-friction", type=scenes.friction_coefficient,
+                        help="the floor's Coulomb friction (default: the scene's, 0.5)")
     scenes.add_points_per_cell_option(parser, 1,
                                       "material points, each with its own cell, per grid cell and direction (default 1)")
     args = parser.parse_args()
@@ -246,7 +259,8 @@ def main():
     args.out.mkdir(parents=True, exist_ok=True)
     for height in args.heights:
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
-                         args.nonlocal_length, args.points_per_cell, args.transfer, args.watch, args.threads)
+                         args.nonlocal_length, args.points_per_cell, args.floor_friction, args.transfer, args.watch,
+                         args.threads)
         print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)

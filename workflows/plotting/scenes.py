@@ -4,6 +4,7 @@ library, material keys merged in, any scene key set. The one generator is `mpm_s
 """
 import argparse
 import json
+import math
 import subprocess
 from pathlib import Path
 
@@ -70,6 +71,17 @@ def add_points_per_cell_option(parser, default, help_text):
             raise argparse.ArgumentTypeError(f"expected an integer >= 1, got {text}")
         return int(text)
     parser.add_argument("--points-per-cell", type=at_least_one, default=default, help=help_text)
+
+
+def friction_coefficient(text):
+    """An argparse type: a Coulomb friction coefficient, a number >= 0."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not value >= 0:
+        raise argparse.ArgumentTypeError(f"expected a friction coefficient >= 0, got {text}")
+    return value
 
 
 def transfer_arg(text):
