@@ -22,11 +22,13 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 // A square elastic block of about `points` points (2 × 2 per cell) with random velocities under
 // gravity; returns point updates per second over `steps` steps with `threads` threads.
-double elastic_rate(long points, long steps, int threads) {
+double elastic_rate(long points, long steps, int threads, const VelocityTransfer& transfer = {}) {
   omp_set_num_threads(threads);
   const int side = std::max(2, static_cast<int>(std::lround(std::sqrt(points / 4.0))));
   const double h = 0.01;
-  Solver solver(Grid(Vec2(0, 0), h, side + 8, side + 8), SolverSettings{});
+  SolverSettings settings;
+  settings.transfer = transfer;
+  Solver solver(Grid(Vec2(0, 0), h, side + 8, side + 8), settings);
   solver.add_law(std::make_unique<ElasticLaw>(1000, Elasticity{1e6, 0.3}));
   seed_region(solver, 0, rectangle(Vec2(4 * h, 4 * h), Vec2((side + 4) * h, (side + 4) * h)), 2);
   solver.set_gravity(Gravity{Vec2(0, -9.81), std::nullopt});
@@ -54,6 +56,14 @@ nlohmann::json run_bench(const BenchOptions& o) {
   std::printf("elastic, cubic B-splines, MUSL, %ld points x %ld steps\n", o.points, o.steps);
   std::printf("point-updates/s: %.3g (1 thread), %.3g (%d threads, speed-up %.2f); DESIGN.md baseline 5-8 M/s per core\n",
               serial, parallel, threads, parallel / serial);
+  // The default transfer's second round trip through the grid (its rough part's blend, stop 78)
+  // against APIC-FLIP with one rate, the transfer before it.
+  VelocityTransfer one_rate;
+  one_rate.noise_rate.reset();
+  const double one_rate_serial = elastic_rate(o.points, o.steps, 1, one_rate);
+  result["elastic"]["point_updates_per_second_1_thread_one_rate_blend"] = one_rate_serial;
+  std::printf("the rough part's blend: %.3g point-updates/s (1 thread) against %.3g with one rate (it costs %+.1f %% per step)\n",
+              serial, one_rate_serial, 100 * (one_rate_serial / serial - 1));
 
   if (o.live_points > 0) {
     omp_set_num_threads(threads);

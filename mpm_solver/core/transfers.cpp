@@ -200,6 +200,14 @@ void blend_in_fluctuations(Grid& grid, std::vector<MaterialPoint>& points, const
       for (int a = 0; a < 4; ++a) acc.momentum[row + a] += (s.wx[a] * s.wy[b]) * momentum;
     }
   });
+  // The nodes' fluctuation velocities, in place of their momenta: one division per node, not per
+  // point and node.
+  const long nodes = static_cast<long>(grid.node_count());
+#pragma omp parallel for schedule(static) if (nodes >= kMinParallelItems)
+  for (long k = 0; k < nodes; ++k) {
+    const double m = grid.sums.mass[k];
+    grid.sums.momentum[k] = m > 0 ? Vec2(grid.sums.momentum[k] / m) : Vec2::Zero();
+  }
   const double kept_carried = transfer.kept_share(dt), kept_rough = transfer.kept_rough_share(dt);
 #pragma omp parallel for schedule(static) if (n >= kMinParallelItems)
   for (long p = 0; p < n; ++p) {
@@ -207,10 +215,7 @@ void blend_in_fluctuations(Grid& grid, std::vector<MaterialPoint>& points, const
     Vec2 carried = Vec2::Zero();
     for (int b = 0; b < 4; ++b) {
       const std::size_t row = s.first_node + b * stride;
-      for (int a = 0; a < 4; ++a) {
-        const double m = grid.sums.mass[row + a];
-        if (m > 0) carried += (s.wx[a] * s.wy[b] / m) * grid.sums.momentum[row + a];
-      }
+      for (int a = 0; a < 4; ++a) carried += (s.wx[a] * s.wy[b]) * grid.sums.momentum[row + a];
     }
     points[p].velocity += kept_carried * carried + kept_rough * (fluctuations[p] - carried);
   }
