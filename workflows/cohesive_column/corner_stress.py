@@ -153,19 +153,31 @@ def main():
     for r in runs:
         r["twin"] = twin(r["height"], r["width"], r["cell_size"], r.get("floor_friction"))
         r["toe_load"] = r["twin"]["two_tau_max"] * r["height"]  # 2τ_max / (ρ g) [m]
-    high, low, separated = critical_load(runs)
+    # One critical load per floor: a frictional floor confines the toe, a frictionless one leaves it
+    # in uniaxial compression, and the cell's strength differs between the two.
+    critical = {}
+    for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
+        high, low, separated = critical_load([r for r in runs if r.get("floor_friction") == friction])
+        critical[floor_name(friction)] = {"highest_standing": high, "lowest_falling": low,
+                                          "separates_every_run": separated}
+    own = critical.get(floor_name(args.floor_friction))
     for r in refinement:  # a column of this shape and H0/h stands below high / f and falls above low / f
-        r["predicted_threshold"] = [None if load is None or not separated else load / r["two_tau_max"]
-                                    for load in (high, low)]
+        r["predicted_threshold"] = [None if not own or not own["separates_every_run"] or load is None
+                                    else load / r["two_tau_max"] for load in (own["highest_standing"] if own else None,
+                                                                              own["lowest_falling"] if own else None)]
     result = {"young": args.young, "poisson": args.poisson, "end": args.end, "average_from": args.average_from,
               "column": args.column, "floor_friction": args.floor_friction, "refinement": refinement,
               "runs": [{k: r.get(k) for k in ("source", "height", "width", "cell_size", "floor_friction", "stands", "front",
                                               "twin", "toe_load")}
                        for r in runs],
-              "critical_toe_load": {"highest_standing": high, "lowest_falling": low, "separates_every_run": separated}}
+              "critical_toe_load": critical}
     (args.out / "corner_stress.json").write_text(json.dumps(result, indent=1) + "\n")
     (args.out / "corner_stress.md").write_text(report(result))
     print(report(result), end="")
+
+
+def floor_name(friction):
+    return "the scene's" if friction is None else f"{friction:g}"
 
 
 def bracket(pair):
@@ -175,13 +187,16 @@ def bracket(pair):
     return f"({'–' if low is None else f'{low:.3f}'}, {'–' if high is None else f'{high:.3f}'}]"
 
 
+def load_text(load):
+    return "–" if load is None else f"{load:.4f} m"
+
+
 def report(result):
     lines = [f"Elastic twins (E = {result['young']:g} Pa, ν = {result['poisson']:g}), stresses averaged from "
              f"{result['average_from']:g} s to {result['end']:g} s.", ""]
     if result["refinement"]:
         height, width = result["column"]
-        floor = "the scene's" if result["floor_friction"] is None else f"{result['floor_friction']:g}"
-        lines += [f"Column H0 = {height:g} m, L0 = {width:g} m, floor friction {floor}:", "",
+        lines += [f"Column H0 = {height:g} m, L0 = {width:g} m, floor friction {floor_name(result['floor_friction'])}:", "",
                   "| H0/h | toe point (x, y) [m] | toe 2τ_max / ρgH0 | toe σ_1 / ρgH0 | bottom row's mean −σ_yy / weight above it "
                   "| threshold predicted by the runs' critical toe load, H0 [m] |",
                   "|---|---|---|---|---|---|"]
@@ -193,14 +208,16 @@ def report(result):
                   "| toe load 2τ_max/(ρg) [m] |",
                   "|---|---|---|---|---|---|---|---|---|"]
         for r in sorted(result["runs"], key=lambda r: r["toe_load"]):
-            floor = "the scene's" if r["floor_friction"] is None else f"{r['floor_friction']:g}"
-            lines.append(f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['height'] / r['cell_size']:.0f} | {floor} | "
+            lines.append(f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['height'] / r['cell_size']:.0f} | "
+                         f"{floor_name(r['floor_friction'])} | "
                          f"{'stands' if r['stands'] else 'falls'} | {r['front']:.3f} | {r['twin']['two_tau_max']:.3f} | "
                          f"{r['toe_load']:.4f} |")
-        c = result["critical_toe_load"]
-        lines += ["", f"Highest standing toe load {c['highest_standing']}, lowest falling {c['lowest_falling']}: "
-                  + ("one critical toe load separates every standing run from every falling one."
-                     if c["separates_every_run"] else "no single critical toe load separates the verdicts.")]
+        lines.append("")
+        for floor, c in result["critical_toe_load"].items():
+            lines.append(f"Floor friction {floor}: highest standing toe load {load_text(c['highest_standing'])}, lowest "
+                         f"falling {load_text(c['lowest_falling'])}: "
+                         + ("one critical toe load separates every standing run from every falling one."
+                            if c["separates_every_run"] else "no single critical toe load separates the verdicts."))
     return "\n".join(lines) + "\n"
 
 
