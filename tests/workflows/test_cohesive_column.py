@@ -186,6 +186,15 @@ class CornerStressTest(WorkflowTest):
                 self.assertLess(abs(r["sigma_1"]), 0.02)
         self.assertIn("| 6 | (0.37500, 0.22500) |", (out / "corner_stress.md").read_text())
 
+    def test_refuses_a_file_that_is_not_a_threshold_result_before_anything_runs(self):
+        (self.out / "not_runs.json").write_text(json.dumps({"runs": {"height": 0.3}}))
+        with self.assertRaises(AssertionError) as refused:
+            run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "corner_stress.py", self.out / "corner", "--build",
+                 BUILD, "--threshold", self.out / "not_runs.json"])
+        self.assertIn(f"--threshold {self.out / 'not_runs.json'}: expected a live_threshold.json with a list 'runs'",
+                      str(refused.exception))
+        self.assertFalse((self.out / "corner").exists())
+
     def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):
         rows = [{"toe_load": 0.26, "stands": True}, {"toe_load": 0.28, "stands": True},
                 {"toe_load": 0.29, "stands": False}, {"toe_load": 0.31, "stands": False}]

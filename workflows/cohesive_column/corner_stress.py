@@ -99,10 +99,16 @@ def twin_figures(xy, stress, face, floor, height, h):
 
 
 def threshold_rows(files):
-    """The local, one-point-per-cell runs of the scene's transfer in live_threshold.json `files`."""
+    """The local, one-point-per-cell runs of the scene's transfer in live_threshold.json `files`; raises
+    ValueError naming a file that is not one."""
     rows = []
     for file in files:
-        runs = json.loads(Path(file).read_text())["runs"]
+        try:
+            runs = json.loads(Path(file).read_text())["runs"]
+            if not isinstance(runs, list):
+                raise TypeError
+        except (OSError, ValueError, KeyError, TypeError) as error:
+            raise ValueError(f"{file}: expected a live_threshold.json with a list 'runs' ({error!r})") from None
         rows += [{**r, "source": str(file)} for r in runs
                  if regularization(r) == "local" and points_per_cell(r) == 1 and r.get("transfer") is None
                  and r["stands"] is not None]
@@ -137,6 +143,14 @@ def main():
         parser.error("give --column H0 L0, --threshold FILES or both")
     if not 0 <= args.average_from < args.end:
         parser.error(f"--average-from: expected a time in [0, --end = {args.end}), got {args.average_from}")
+    if not args.young > 0 or not 0 <= args.poisson < 0.5:
+        parser.error(f"--young {args.young:g} --poisson {args.poisson:g}: expected E > 0 and 0 <= ν < 0.5")
+    if min(args.ratios) < 1:
+        parser.error(f"--ratios: expected H0/h >= 1, got {min(args.ratios)}")
+    try:
+        runs = threshold_rows(args.threshold)
+    except ValueError as error:
+        parser.error(f"--threshold {error}")
     build = args.build.resolve()
     args.out.mkdir(parents=True, exist_ok=True)
 
@@ -149,7 +163,6 @@ def main():
         height, width = args.column
         refinement = [{"ratio": ratio, **twin(height, width, height / ratio, args.floor_friction)}
                       for ratio in args.ratios]
-    runs = threshold_rows(args.threshold)
     for r in runs:
         r["twin"] = twin(r["height"], r["width"], r["cell_size"], r.get("floor_friction"))
         r["toe_load"] = r["twin"]["two_tau_max"] * r["height"]  # 2τ_max / (ρ g) [m]
