@@ -167,9 +167,9 @@ class ThresholdResolutionTest(unittest.TestCase):
 
 class CornerStressTest(WorkflowTest):
     """corner_stress.py: the live column's elastic twins. Each settles in equilibrium, its bottom row
-    carrying the weight above it; on a frictionless floor nothing restrains the base, so the toe is in
-    uniaxial compression under its overburden; and one critical toe load either separates the live
-    verdicts or is said not to."""
+    carrying the weight above it; on a frictionless floor nothing restrains the base, so its corners
+    are in uniaxial compression under their overburden, which the gate's release can only have
+    exceeded on the way; and one critical load either separates the live verdicts or is said not to."""
 
     def test_the_twins_carry_their_weight_and_a_frictionless_toe_is_uniaxial(self):
         out = self.out / "corner"
@@ -179,12 +179,17 @@ class CornerStressTest(WorkflowTest):
         result = json.loads((out / "corner_stress.json").read_text())
         self.assertEqual([r["ratio"] for r in result["refinement"]], [3, 6])
         for r in result["refinement"]:
-            with self.subTest(ratio=r["ratio"]):
-                self.assertAlmostEqual(r["bottom_row_load"], 1, delta=0.05)
-                depth = 1 - 1 / (2 * r["ratio"])  # the toe point's, over H0
-                self.assertAlmostEqual(r["two_tau_max"], depth, delta=0.05 * depth)
-                self.assertLess(abs(r["sigma_1"]), 0.02)
-        self.assertIn("| 6 | (0.37500, 0.22500) |", (out / "corner_stress.md").read_text())
+            depth = 1 - 1 / (2 * r["ratio"])  # the corners' points', over H0
+            self.assertAlmostEqual(r["bottom_row_load"], 1, delta=0.05)
+            for name, corner in r["corners"].items():
+                with self.subTest(ratio=r["ratio"], corner=name):
+                    self.assertAlmostEqual(corner["two_tau_max"], depth, delta=0.05 * depth)
+                    self.assertLess(abs(corner["sigma_1"]), 0.02)
+                    # Released by the gate at 0.08 s, the settled stress is a lower bound of the peak after it.
+                    self.assertGreaterEqual(corner["peak_two_tau_max"], 0.95 * corner["two_tau_max"])
+                    self.assertGreaterEqual(corner["peak_time"], 0.08)
+        self.assertEqual(result["refinement"][1]["corners"]["toe"]["point"], [0.375, 0.225])
+        self.assertEqual(result["refinement"][1]["corners"]["heel"]["point"], [0.225, 0.225])
 
     def test_refuses_a_file_that_is_not_a_threshold_result_before_anything_runs(self):
         (self.out / "not_runs.json").write_text(json.dumps({"runs": {"height": 0.3}}))
@@ -198,6 +203,7 @@ class CornerStressTest(WorkflowTest):
     def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):
         rows = [{"toe_load": 0.26, "stands": True}, {"toe_load": 0.28, "stands": True},
                 {"toe_load": 0.29, "stands": False}, {"toe_load": 0.31, "stands": False}]
-        self.assertEqual(corner_stress.critical_load(rows), (0.28, 0.29, True))
-        self.assertEqual(corner_stress.critical_load(rows + [{"toe_load": 0.30, "stands": True}]), (0.30, 0.29, False))
-        self.assertEqual(corner_stress.critical_load(rows[:2]), (0.28, None, True))
+        self.assertEqual(corner_stress.critical_load(rows, "toe_load"), (0.28, 0.29, True))
+        self.assertEqual(corner_stress.critical_load(rows + [{"toe_load": 0.30, "stands": True}], "toe_load"),
+                         (0.30, 0.29, False))
+        self.assertEqual(corner_stress.critical_load(rows[:2], "toe_load"), (0.28, None, True))

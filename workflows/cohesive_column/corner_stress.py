@@ -1,29 +1,30 @@
-"""Why the two-scale column's threshold moves with the grid: the stress at its toe (issue 18).
+"""Why the two-scale column's threshold moves with the grid: the stress at its corners (issue 18).
 
-A vertical face meets a floor that holds it by friction at the column's toe, and there elasticity
-puts a stress concentration that a finer grid resolves further: the toe's material point sits h/2
-from the corner and carries more of it at every halving of h, while a point at a fixed place in the
-body converges. A brittle cell, which fails where its stress first reaches its strength, then fails
-at a lower column on a finer grid.
+A column's base meets its free face at the toe and the back wall at the heel. Where a face meets a
+floor that holds it by friction, elasticity puts a stress concentration at the corner that a finer
+grid resolves further: the toe's material point sits h/2 from it and carries more of it at every
+halving of h. The gate's removal also sends a wave through the column that a finer grid keeps
+sharper, so the corners' stress peaks after it grow with refinement too. A brittle cell, which fails
+where its stress first reaches its strength, then fails at a lower column on a finer grid.
 
-This script measures that concentration on the live columns' elastic twins: live_threshold.py's
-scene (back wall, floor, gate removed at 0.08 s, one point per grid cell) with an elastic law in
-place of the cells, run to --end and averaged from --average-from (the transfer's blend damps the
-ringing that the gate's removal starts). Of each twin it reports the toe point's in-plane maximum
-shear stress 2τ_max = √((σ_xx − σ_yy)² + 4σ_xy²) and its largest principal stress σ_1, both over
-ρ g H0, and the bottom row's mean σ_yy against the weight above it (a check of the column's
-equilibrium).
+This script measures both on the live columns' elastic twins: live_threshold.py's scene (back wall,
+floor, gate removed at 0.08 s, one point per grid cell) with an elastic law in place of the cells,
+run to --end. Of each twin it reports, at the points nearest the toe and the heel, the in-plane
+maximum shear stress 2τ_max = √((σ_xx − σ_yy)² + 4σ_xy²) settled (averaged from --average-from, after
+the transfer's blend has damped the ringing) and its peak after the gate (tracked every 0.5 ms), and
+the toe's largest principal stress σ_1, each over ρ g H0, and the bottom row's mean σ_yy against the
+weight above it (a check of the column's equilibrium).
 
 - --column H0 L0 --ratios 6 12 24 48: one column on grids of H0/h = each ratio; self-similar under
   gravity, so each figure over ρ g H0 holds for any H0 at that ratio and width over height.
 - --threshold A.json [B.json ...]: the live runs of live_threshold.json files (local, one point per
-  cell, the scene's transfer), each with its own twin; each run's toe load, 2τ_max/(ρ g) of its twin
-  in metres of overburden, against its verdict. If one critical load separates every standing run
-  from every falling one, the toe's stress concentration explains the verdicts, and the bracket
-  predicts the threshold at each H0/h: the heights between standing_max / f and falling_min / f,
-  f the twin's 2τ_max/(ρ g H0) there.
+  cell, the scene's transfer), each with its own twin, ranked per floor friction by two loads in
+  metres of overburden, 2τ_max/(ρ g): the toe's settled stress and the larger corner peak. Where one
+  critical load separates every standing run from every falling one, that load explains the
+  verdicts, and the --column table predicts the threshold at each H0/h: the heights between
+  standing_max / f and falling_min / f, f the twin's 2τ_max/(ρ g H0) there.
 
-  /usr/bin/python3 corner_stress.py OUT [--column 0.3 0.2 --ratios 6 12 24 48]
+  /usr/bin/python3 corner_stress.py OUT [--column 0.3 0.2 --ratios 6 12 24 48] [--floor-friction MU]
                                     [--threshold live_threshold.json ...]
                                     [--young 1e6] [--poisson 0.3] [--end 1.0] [--average-from 0.6]
                                     [--build BUILD] [--threads N]
@@ -42,33 +43,46 @@ import numpy as np
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
-from plotting import environment, scenes, vtu  # noqa: E402
+from plotting import environment, scenes, tables, vtu  # noqa: E402
 from live_threshold import CELL, SCENE, column_settings, points_per_cell, regularization  # noqa: E402
 
 G = 9.81
 DENSITY = 540.0  # [kg/m³]: any; every figure is over ρ g
 
 
+SERIES_INTERVAL = 5e-4  # [s]: the corners' stress history, fine enough for the peaks after the gate
+
+
+def corners(width):
+    """The column's two corners on the floor: the heel (at the back wall) and the toe (at the face)."""
+    x0, y0 = json.loads(SCENE.read_text())["regions"][0]["rectangle"]["min"]
+    return {"heel": [x0, y0], "toe": [x0 + width, y0]}
+
+
 def twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end):
-    """Writes the elastic twin of live_threshold.py's column `height` × `width` on a grid of `h`."""
-    settings, _ = column_settings(json.loads(SCENE.read_text()), height, width, h, None, 1, floor_friction)
-    settings.update({"/time/end": end, "/time/output_interval": 0.02})
+    """Writes the elastic twin of live_threshold.py's column `height` × `width` on a grid of `h`, its
+    corners' points tracked; returns the gate's removal time."""
+    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, None, 1, floor_friction)
+    settings.update({"/time/end": end, "/time/output_interval": 0.02, "/time/series_interval": SERIES_INTERVAL})
     scene = scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(CELL)}, settings)
     scene["materials"] = [{"name": "snow", "law": "elastic", "density": DENSITY, "young": young, "poisson": poisson}]
     scene["effects"]["cohesion"] = False
+    scene["tracked_points"] = list(corners(width).values())
     scene.pop("audit", None)  # an audit needs DEM cells
     scene_file.write_text(json.dumps(scene, indent=1) + "\n")
+    return gate
 
 
 def measure_twin(build, out, height, width, h, floor_friction, young, poisson, end, average_from, threads):
-    """The twin's toe and bottom row, its stresses averaged over the snapshots from `average_from`."""
+    """The twin's corners and bottom row: their stresses averaged over the snapshots from
+    `average_from`, and the corners' peaks after the gate's removal."""
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + ("" if floor_friction is None else f"_floor{floor_friction:g}")
             + f"_E{young:g}_nu{poisson:g}_to{end:g}")
     run = out / "twins" / name
-    if not (run / "points.pvd").exists():
-        scene_file = out / "twins" / f"{name}.json"
-        scene_file.parent.mkdir(parents=True, exist_ok=True)
-        twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
+    scene_file = out / "twins" / f"{name}.json"
+    scene_file.parent.mkdir(parents=True, exist_ok=True)
+    gate = twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
+    if not (run / "tracked_points.csv").exists():
         done = subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(run),
                                "--threads", str(threads)], capture_output=True, text=True)
         if done.returncode != 0:
@@ -79,23 +93,34 @@ def measure_twin(build, out, height, width, h, floor_friction, young, poisson, e
     if not late:
         raise ValueError(f"{run}: no snapshot at or after --average-from {average_from} s")
     stress = np.mean([snap.by_id(snap.in_plane_stress()) for snap in late], axis=0)
-    x0, y0 = json.loads(SCENE.read_text())["regions"][0]["rectangle"]["min"]
-    return twin_figures(first.by_id(first.xy), stress, x0 + width, y0, height, h)
+    tracked = tables.split_by(tables.read_csv(run / "tracked_points.csv"), "point")
+    weight = DENSITY * G * height
+    figures = twin_figures(first.by_id(first.xy), stress, corners(width), height, h)
+    for figure in figures["corners"].values():
+        history = tracked[figure["id"]]  # the scene tracks the point nearest each corner, as twin_figures finds it
+        after = history["t"] >= gate
+        two_tau = np.hypot(history["sxx"] - history["syy"], 2 * history["sxy"])[after]
+        figure["peak_two_tau_max"] = float(two_tau.max()) / weight
+        figure["peak_time"] = float(history["t"][after][np.argmax(two_tau)])
+    return figures
 
 
-def twin_figures(xy, stress, face, floor, height, h):
-    """The toe point's (nearest the face–floor corner) 2τ_max and σ_1, over ρ g H0, and the bottom
+def twin_figures(xy, stress, corners, height, h):
+    """Each corner's point (the nearest to it) with its 2τ_max and σ_1 over ρ g H0, and the bottom
     row's mean σ_yy over the weight above it; `xy` the points' initial positions, `stress` their
     in-plane σ_xx, σ_yy, σ_xy."""
-    toe = int(np.argmin(np.hypot(xy[:, 0] - face, xy[:, 1] - floor)))
-    sxx, syy, sxy = stress[toe]
-    two_tau = math.hypot(sxx - syy, 2 * sxy)
-    bottom = xy[:, 1] < floor + h
     weight = DENSITY * G * height
+    found = {}
+    for corner, (x, y) in corners.items():
+        point = int(np.argmin(np.hypot(xy[:, 0] - x, xy[:, 1] - y)))
+        sxx, syy, sxy = stress[point]
+        two_tau = math.hypot(sxx - syy, 2 * sxy)
+        found[corner] = {"id": point, "point": [float(v) for v in xy[point]], "two_tau_max": two_tau / weight,
+                         "sigma_1": (0.5 * (sxx + syy) + 0.5 * two_tau) / weight}
+    floor = min(y for _, y in corners.values())
+    bottom = xy[:, 1] < floor + h
     above_bottom_row = DENSITY * G * (height - float(np.mean(xy[bottom, 1]) - floor))
-    return {"toe": [float(v) for v in xy[toe]], "two_tau_max": two_tau / weight,
-            "sigma_1": (0.5 * (sxx + syy) + 0.5 * two_tau) / weight,
-            "bottom_row_load": -float(np.mean(stress[bottom, 1])) / above_bottom_row}
+    return {"corners": found, "bottom_row_load": -float(np.mean(stress[bottom, 1])) / above_bottom_row}
 
 
 def threshold_rows(files):
@@ -115,13 +140,23 @@ def threshold_rows(files):
     return rows
 
 
-def critical_load(rows):
-    """(highest standing toe load, lowest falling toe load, whether the first is below the second) over
-    `rows` that carry `toe_load`; None where no run stood or fell."""
-    standing = [r["toe_load"] for r in rows if r["stands"]]
-    falling = [r["toe_load"] for r in rows if not r["stands"]]
+def critical_load(rows, load):
+    """(highest standing `load`, lowest falling `load`, whether the first is below the second) over
+    `rows`; None where no run stood or fell."""
+    standing = [r[load] for r in rows if r["stands"]]
+    falling = [r[load] for r in rows if not r["stands"]]
     high, low = (max(standing) if standing else None), (min(falling) if falling else None)
     return high, low, high is None or low is None or high < low
+
+
+# The two loads a run is ranked by, in metres of overburden (2τ_max / (ρ g)): the toe's settled stress,
+# and the larger of the two corners' peaks after the gate's removal.
+LOADS = {"toe_load": "the toe's settled 2τ_max", "peak_load": "the corners' peak 2τ_max after the gate"}
+
+
+def loads(twin, height):
+    return {"toe_load": twin["corners"]["toe"]["two_tau_max"] * height,
+            "peak_load": max(c["peak_two_tau_max"] for c in twin["corners"].values()) * height}
 
 
 def main():
@@ -165,25 +200,30 @@ def main():
                       for ratio in args.ratios]
     for r in runs:
         r["twin"] = twin(r["height"], r["width"], r["cell_size"], r.get("floor_friction"))
-        r["toe_load"] = r["twin"]["two_tau_max"] * r["height"]  # 2τ_max / (ρ g) [m]
-    # One critical load per floor: a frictional floor confines the toe, a frictionless one leaves it
-    # in uniaxial compression, and the cell's strength differs between the two.
+        r.update(loads(r["twin"], r["height"]))
+    # One critical load per floor: a frictional floor confines the toe, a frictionless one leaves the
+    # base in uniaxial compression, and the cell's strength differs between the two.
     critical = {}
     for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
-        high, low, separated = critical_load([r for r in runs if r.get("floor_friction") == friction])
-        critical[floor_name(friction)] = {"highest_standing": high, "lowest_falling": low,
-                                          "separates_every_run": separated}
-    own = critical.get(floor_name(args.floor_friction))
+        group = [r for r in runs if r.get("floor_friction") == friction]
+        critical[floor_name(friction)] = {}
+        for load in LOADS:
+            high, low, separated = critical_load(group, load)
+            critical[floor_name(friction)][load] = {"highest_standing": high, "lowest_falling": low,
+                                                    "separates_every_run": separated}
+    own = critical.get(floor_name(args.floor_friction), {})
     for r in refinement:  # a column of this shape and H0/h stands below high / f and falls above low / f
-        r["predicted_threshold"] = [None if not own or not own["separates_every_run"] or load is None
-                                    else load / r["two_tau_max"] for load in (own["highest_standing"] if own else None,
-                                                                              own["lowest_falling"] if own else None)]
+        per_height = loads(r, 1.0)
+        r["predicted_threshold"] = {
+            load: [None if load not in own or not own[load]["separates_every_run"] or own[load][side] is None
+                   else own[load][side] / per_height[load] for side in ("highest_standing", "lowest_falling")]
+            for load in LOADS}
     result = {"young": args.young, "poisson": args.poisson, "end": args.end, "average_from": args.average_from,
               "column": args.column, "floor_friction": args.floor_friction, "refinement": refinement,
               "runs": [{k: r.get(k) for k in ("source", "height", "width", "cell_size", "floor_friction", "stands", "front",
-                                              "twin", "toe_load")}
+                                              "twin", *LOADS)}
                        for r in runs],
-              "critical_toe_load": critical}
+              "critical": critical}
     (args.out / "corner_stress.json").write_text(json.dumps(result, indent=1) + "\n")
     (args.out / "corner_stress.md").write_text(report(result))
     print(report(result), end="")
@@ -205,32 +245,37 @@ def load_text(load):
 
 
 def report(result):
-    lines = [f"Elastic twins (E = {result['young']:g} Pa, ν = {result['poisson']:g}), stresses averaged from "
-             f"{result['average_from']:g} s to {result['end']:g} s.", ""]
+    lines = [f"Elastic twins (E = {result['young']:g} Pa, ν = {result['poisson']:g}), settled stresses averaged from "
+             f"{result['average_from']:g} s to {result['end']:g} s; peaks after the gate's removal.", ""]
     if result["refinement"]:
         height, width = result["column"]
-        lines += [f"Column H0 = {height:g} m, L0 = {width:g} m, floor friction {floor_name(result['floor_friction'])}:", "",
-                  "| H0/h | toe point (x, y) [m] | toe 2τ_max / ρgH0 | toe σ_1 / ρgH0 | bottom row's mean −σ_yy / weight above it "
-                  "| threshold predicted by the runs' critical toe load, H0 [m] |",
-                  "|---|---|---|---|---|---|"]
-        lines += [f"| {r['ratio']} | ({r['toe'][0]:.5f}, {r['toe'][1]:.5f}) | {r['two_tau_max']:.3f} | {r['sigma_1']:.3f} | "
-                  f"{r['bottom_row_load']:.3f} | {bracket(r['predicted_threshold'])} |" for r in result["refinement"]]
+        lines += [f"Column H0 = {height:g} m, L0 = {width:g} m, floor friction {floor_name(result['floor_friction'])} "
+                  "(2τ_max over ρgH0; thresholds predicted by the runs' critical loads, H0 [m]):", "",
+                  "| H0/h | toe, settled | toe σ_1, settled | toe, peak (t [s]) | heel, settled | heel, peak (t [s]) "
+                  "| bottom row's load / weight above it | threshold by the settled toe | by the peaks |",
+                  "|---|---|---|---|---|---|---|---|---|"]
+        for r in result["refinement"]:
+            toe, heel = r["corners"]["toe"], r["corners"]["heel"]
+            lines.append(f"| {r['ratio']} | {toe['two_tau_max']:.3f} | {toe['sigma_1']:.3f} | {toe['peak_two_tau_max']:.3f} "
+                         f"({toe['peak_time']:.4f}) | {heel['two_tau_max']:.3f} | {heel['peak_two_tau_max']:.3f} "
+                         f"({heel['peak_time']:.4f}) | {r['bottom_row_load']:.3f} | "
+                         f"{bracket(r['predicted_threshold']['toe_load'])} | {bracket(r['predicted_threshold']['peak_load'])} |")
         lines.append("")
     if result["runs"]:
-        lines += ["| H0 [m] | L0 [m] | h [m] | H0/h | floor friction | live outcome | front / L0 | twin's toe 2τ_max / ρgH0 "
-                  "| toe load 2τ_max/(ρg) [m] |",
+        lines += ["| H0 [m] | L0 [m] | h [m] | H0/h | floor friction | live outcome | front / L0 | toe load, settled [m] "
+                  "| peak load [m] |",
                   "|---|---|---|---|---|---|---|---|---|"]
-        for r in sorted(result["runs"], key=lambda r: r["toe_load"]):
+        for r in sorted(result["runs"], key=lambda r: (r["floor_friction"] is not None, r["peak_load"])):
             lines.append(f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['height'] / r['cell_size']:.0f} | "
-                         f"{floor_name(r['floor_friction'])} | "
-                         f"{'stands' if r['stands'] else 'falls'} | {r['front']:.3f} | {r['twin']['two_tau_max']:.3f} | "
-                         f"{r['toe_load']:.4f} |")
+                         f"{floor_name(r['floor_friction'])} | {'stands' if r['stands'] else 'falls'} | {r['front']:.3f} | "
+                         f"{r['toe_load']:.4f} | {r['peak_load']:.4f} |")
         lines.append("")
-        for floor, c in result["critical_toe_load"].items():
-            lines.append(f"Floor friction {floor}: highest standing toe load {load_text(c['highest_standing'])}, lowest "
-                         f"falling {load_text(c['lowest_falling'])}: "
-                         + ("one critical toe load separates every standing run from every falling one."
-                            if c["separates_every_run"] else "no single critical toe load separates the verdicts."))
+        for floor, per_load in result["critical"].items():
+            for load, c in per_load.items():
+                lines.append(f"Floor friction {floor}, {LOADS[load]}: highest standing {load_text(c['highest_standing'])}, "
+                             f"lowest falling {load_text(c['lowest_falling'])}: "
+                             + ("one critical load separates every standing run from every falling one."
+                                if c["separates_every_run"] else "no single critical load separates the verdicts."))
     return "\n".join(lines) + "\n"
 
 
