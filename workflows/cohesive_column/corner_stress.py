@@ -48,8 +48,6 @@ from live_threshold import CELL, SCENE, column_settings, points_per_cell, regula
 
 G = 9.81
 DENSITY = 540.0  # [kg/m³]: any; every figure is over ρ g
-
-
 SERIES_INTERVAL = 5e-4  # [s]: the corners' stress history, fine enough for the peaks after the gate
 
 
@@ -73,6 +71,14 @@ def twin_scene(build, scene_file, height, width, h, floor_friction, young, poiss
     return gate
 
 
+def finished(run):
+    """Whether the twin in folder `run` ran to its end (an interrupted one says so in its summary)."""
+    try:
+        return json.loads((run / "summary.json").read_text())["interrupted"] is False
+    except (OSError, ValueError, KeyError):
+        return False
+
+
 def measure_twin(build, out, height, width, h, floor_friction, young, poisson, end, average_from, threads):
     """The twin's corners and bottom row: their stresses averaged over the snapshots from
     `average_from`, and the corners' peaks after the gate's removal."""
@@ -82,7 +88,7 @@ def measure_twin(build, out, height, width, h, floor_friction, young, poisson, e
     scene_file = out / "twins" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     gate = twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
-    if not (run / "tracked_points.csv").exists():
+    if not finished(run):
         done = subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(run),
                                "--threads", str(threads)], capture_output=True, text=True)
         if done.returncode != 0:
