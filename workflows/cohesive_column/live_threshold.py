@@ -11,8 +11,8 @@ each cell driven by the velocity gradient averaged over ℓ, mpm_solver/core/non
 that runs at several h and one ℓ show whether the threshold converges once the material has an
 internal length; runs without it are local. --floor-friction μ sets the floor's Coulomb friction
 (the scene's 0.5 by default): where a face meets a floor that holds it, the toe carries a stress
-concentration that a finer grid resolves further (corner_stress.py); on a frictionless floor it
-does not.
+concentration that a finer grid resolves further (corner_stress.py); on a frictionless floor the
+settled toe does not, though the gate's release still peaks at the corners.
 
 The predictions come from the cell alone, each the highest vertical cut that stands in limit analysis
 (Chen's log-spiral, γ H_c / c = 3.83 tan(45° + φ/2)), run on the same --cell:
