@@ -48,19 +48,21 @@ from live_threshold import CELL, SCENE, column_settings, points_per_cell, regula
 
 G = 9.81
 DENSITY = 540.0  # [kg/m³]: any; every figure is over ρ g
+BASE_SCENE = json.loads(SCENE.read_text())
+GATE_REMOVAL = next(o["remove_at"] for o in BASE_SCENE["obstacles"] if "remove_at" in o)  # [s]
 SERIES_INTERVAL = 5e-4  # [s]: the corners' stress history, fine enough for the peaks after the gate
 
 
 def corners(width):
     """The column's two corners on the floor: the heel (at the back wall) and the toe (at the face)."""
-    x0, y0 = json.loads(SCENE.read_text())["regions"][0]["rectangle"]["min"]
+    x0, y0 = BASE_SCENE["regions"][0]["rectangle"]["min"]
     return {"heel": [x0, y0], "toe": [x0 + width, y0]}
 
 
 def twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end):
     """Writes the elastic twin of live_threshold.py's column `height` × `width` on a grid of `h`, its
-    corners' points tracked; returns the gate's removal time."""
-    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, None, 1, floor_friction)
+    corners' points tracked."""
+    settings, _ = column_settings(BASE_SCENE, height, width, h, None, 1, floor_friction)
     settings.update({"/time/end": end, "/time/output_interval": 0.02, "/time/series_interval": SERIES_INTERVAL})
     scene = scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(CELL)}, settings)
     scene["materials"] = [{"name": "snow", "law": "elastic", "density": DENSITY, "young": young, "poisson": poisson}]
@@ -68,7 +70,6 @@ def twin_scene(build, scene_file, height, width, h, floor_friction, young, poiss
     scene["tracked_points"] = list(corners(width).values())
     scene.pop("audit", None)  # an audit needs DEM cells
     scene_file.write_text(json.dumps(scene, indent=1) + "\n")
-    return gate
 
 
 def finished(run):
@@ -85,10 +86,10 @@ def measure_twin(build, out, height, width, h, floor_friction, young, poisson, e
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + ("" if floor_friction is None else f"_floor{floor_friction:g}")
             + f"_E{young:g}_nu{poisson:g}_to{end:g}")
     run = out / "twins" / name
-    scene_file = out / "twins" / f"{name}.json"
-    scene_file.parent.mkdir(parents=True, exist_ok=True)
-    gate = twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
-    if not finished(run):
+    if not finished(run):  # a finished twin is reused as it is
+        scene_file = out / "twins" / f"{name}.json"
+        scene_file.parent.mkdir(parents=True, exist_ok=True)
+        twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
         done = subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(run),
                                "--threads", str(threads)], capture_output=True, text=True)
         if done.returncode != 0:
@@ -104,7 +105,7 @@ def measure_twin(build, out, height, width, h, floor_friction, young, poisson, e
     figures = twin_figures(first.by_id(first.xy), stress, corners(width), height, h)
     for figure in figures["corners"].values():
         history = tracked[figure["id"]]  # the scene tracks the point nearest each corner, as twin_figures finds it
-        after = history["t"] >= gate
+        after = history["t"] >= GATE_REMOVAL
         two_tau = np.hypot(history["sxx"] - history["syy"], 2 * history["sxy"])[after]
         figure["peak_two_tau_max"] = float(two_tau.max()) / weight
         figure["peak_time"] = float(history["t"][after][np.argmax(two_tau)])
