@@ -88,14 +88,20 @@ void write_cell_state(const h5::Object& group, const StoredCell& cell) {
   std::vector<dem::Vec3> shear;
   std::vector<double> rest_gap;
   std::vector<std::uint8_t> intact;
+  std::vector<double> integrity;
+  bool softened = false;
   for (const dem::Bond& b : st.bonds) {
     shear.push_back(b.shear_displacement);
     rest_gap.push_back(b.rest_gap);
-    intact.push_back(b.intact ? 1 : 0);
+    intact.push_back(b.intact() ? 1 : 0);
+    integrity.push_back(b.integrity);
+    softened = softened || (b.integrity > 0 && b.integrity < 1);
   }
   h5::write_array(group, "bond_shear_displacement", vector_values(shear), 3);
   h5::write_array(group, "bond_rest_gap", rest_gap, 0);
   h5::write_array(group, "bond_intact", intact, 0);
+  // Only a softening bond is neither 0 nor 1: a brittle cell's state is written as before.
+  if (softened) h5::write_array(group, "bond_integrity", integrity, 0);
   h5::write_array(group, "rolling_moment", vector_values(st.rolling_moment), 3);
 }
 
@@ -152,8 +158,13 @@ StoredCell read_cell_state(const h5::Object& group) {
   require_length(group, "bond_rest_gap", rest_gap.size(), shear.size());
   require_length(group, "bond_intact", intact.size(), shear.size());
   if (!shear.empty()) require_length(group, "bond_shear_displacement", shear.size(), pairs);
+  std::vector<double> integrity(intact.begin(), intact.end());
+  if (h5::has_child(group, "bond_integrity")) {
+    integrity = h5::read_array<double>(group, "bond_integrity", 0);
+    require_length(group, "bond_integrity", integrity.size(), shear.size());
+  }
   st.bonds.resize(shear.size());
-  for (std::size_t k = 0; k < shear.size(); ++k) st.bonds[k] = dem::Bond{shear[k], rest_gap[k], intact[k] != 0};
+  for (std::size_t k = 0; k < shear.size(); ++k) st.bonds[k] = dem::Bond{shear[k], rest_gap[k], integrity[k]};
 
   st.rolling_moment = read_vectors(group, "rolling_moment");
   if (!st.rolling_moment.empty()) require_length(group, "rolling_moment", st.rolling_moment.size(), pairs);

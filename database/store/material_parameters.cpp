@@ -31,6 +31,14 @@ void visit_parameters(M& m, Visit visit) {
   visit("effects.rolling", m.effects.rolling);
 }
 
+// Parameters added after libraries were first written, each with the value every older library has:
+// absent from a catalogue means that value, and at that value they are left out of the JSON and the
+// hash, so older libraries keep their identity.
+template <class M, class Visit>
+void visit_later_parameters(M& m, Visit visit) {
+  visit("bond.softening", m.bond.softening, 0.0);
+}
+
 nlohmann::json::json_pointer pointer(const std::string& dotted) {
   std::string path = "/" + dotted;
   for (char& c : path)
@@ -69,6 +77,9 @@ std::string to_text(const T& value) {
 nlohmann::json material_to_json(const dem::Material& material) {
   nlohmann::json json = nlohmann::json::object();
   visit_parameters(material, [&](const char* name, const auto& value) { json[pointer(name)] = value; });
+  visit_later_parameters(material, [&](const char* name, const auto& value, const auto& older) {
+    if (value != older) json[pointer(name)] = value;
+  });
   return json;
 }
 
@@ -79,16 +90,24 @@ dem::Material material_from_json(const nlohmann::json& json) {
     if (!json.contains(p)) throw std::invalid_argument(std::string("material: missing parameter ") + name);
     value = json.at(p).get<std::remove_reference_t<decltype(value)>>();
   });
+  visit_later_parameters(material, [&](const char* name, auto& value, const auto& older) {
+    const auto p = pointer(name);
+    value = json.contains(p) ? json.at(p).get<std::remove_reference_t<decltype(value)>>() : older;
+  });
   return material;
 }
 
 std::string parameter_hash(const dem::Material& material) {
   std::uint64_t hash = fnv1a("grainbank-material-v1", 21);
-  visit_parameters(material, [&](const char* name, const auto& value) {
+  const auto add = [&](const char* name, const auto& value) {
     hash = fnv1a(name, std::char_traits<char>::length(name), hash);
     const double as_double = static_cast<double>(value);
     const auto bits = std::bit_cast<std::uint64_t>(as_double);
     hash = fnv1a(&bits, sizeof bits, hash);
+  };
+  visit_parameters(material, add);
+  visit_later_parameters(material, [&](const char* name, const auto& value, const auto& older) {
+    if (value != older) add(name, value);
   });
   return hex16(hash);
 }
@@ -99,7 +118,14 @@ std::vector<std::string> material_differences(const dem::Material& library, cons
     names.emplace_back(name);
     library_values.push_back(to_text(value));
   });
+  visit_later_parameters(library, [&](const char* name, const auto& value, const auto&) {
+    names.emplace_back(name);
+    library_values.push_back(to_text(value));
+  });
   visit_parameters(given, [&](const char*, const auto& value) { given_values.push_back(to_text(value)); });
+  visit_later_parameters(given, [&](const char*, const auto& value, const auto&) {
+    given_values.push_back(to_text(value));
+  });
   std::vector<std::string> differences;
   for (std::size_t k = 0; k < names.size(); ++k)
     if (library_values[k] != given_values[k])

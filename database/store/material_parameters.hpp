@@ -2,6 +2,8 @@
 // effects), as JSON for the catalogue, as a parameter hash for quick comparison, and as a list of
 // named differences for error messages. Parameters of switched-off effects count too: the hash says
 // "same inputs", not "same physics under some reading of which inputs matter".
+// Parameters added later (bond.softening) are left out of the JSON and the hash at the value every
+// older library has, and read as that value when absent, so older libraries keep their identity.
 #pragma once
 #include <string>
 #include <vector>

@@ -18,11 +18,14 @@ struct Pair {
   Vec3 ft = Vec3::Zero();  // tangential contact spring force on j (Coulomb-capped)
 };
 
-// Elastic-brittle bond attached to a Verlet pair (only stored when bonds are on).
+// Bond attached to a Verlet pair (only stored when bonds are on).
 struct Bond {
   Vec3 shear_displacement = Vec3::Zero();  // u_b: total tangential displacement since bonding
   double rest_gap = 0;                     // g_0: gap at bonding, so the bond is stress-free then
-  bool intact = false;
+  // The share of its elastic forces the bond carries: 1 intact, 0 broken; in between only for a
+  // softening bond past its yield surface (BondLaw::softening).
+  double integrity = 0;
+  bool intact() const { return integrity > 0; }
 };
 
 struct CellState {

@@ -33,7 +33,7 @@ void write_cell_state(const CellState& s, common::ByteWriter& out) {
   out.put<std::uint64_t>(s.bonds.size());
   for (const Bond& b : s.bonds) {
     out.put_matrix(b.shear_displacement);
-    out.put(b.rest_gap), out.put(b.intact);
+    out.put(b.rest_gap), out.put(b.integrity);
   }
   put_vec3s(s.rolling_moment, out);
   out.put(s.initial_bond_count);
@@ -66,7 +66,7 @@ CellState read_cell_state(common::ByteReader& in) {
     Bond b;
     b.shear_displacement = in.get_matrix<Vec3>();
     b.rest_gap = in.get<double>();
-    b.intact = in.get<bool>();
+    b.integrity = in.get<double>();
     return b;
   });
   s.rolling_moment = get_vec3s(in);

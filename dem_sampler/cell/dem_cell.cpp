@@ -247,7 +247,7 @@ std::int64_t DemCell::create_bonds(double bonding_distance) {
     if (gap < bonding_distance * rsum) {
       for (auto& c : pairs_.bond_shear) c[k] = 0;
       pairs_.bond_rest_gap[k] = gap;
-      pairs_.bond_intact[k] = 1;
+      pairs_.bond_integrity[k] = 1;
       ++count;
     }
   }

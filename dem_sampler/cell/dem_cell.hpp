@@ -130,7 +130,11 @@ class DemCell {
   CellState state() const;
 
  private:
-  template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
+  // The bond law the force loop is compiled for: the yield surface's exponent p (2 needs no power)
+  // and whether the bond softens past it (interaction_law.hpp).
+  enum class BondForm : std::size_t { kBrittlePower, kBrittleQuadratic, kSofteningQuadratic };
+  static constexpr std::size_t kBondForms = 3;
+  template <bool Bonds, bool Rolling, bool Measure, BondForm Form>
   void compute_forces(double dt);
   void compute_forces(bool measure, double dt);
   template <std::size_t... Flags>

@@ -32,14 +32,14 @@ struct BlockOutput {
 struct Columns {
   const std::uint32_t *i, *j, *image;
   const double *damping, *bond_rest_gap;
-  double *ft[3], *bond_shear[3], *bond_intact, *rolling[3];
+  double *ft[3], *bond_shear[3], *bond_integrity, *rolling[3];
 
   explicit Columns(PairTable& t)
       : i(t.i.data()), j(t.j.data()), image(t.image.data()), damping(t.damping.data()),
         bond_rest_gap(t.bond_rest_gap.data()),
         ft{t.ft[0].data(), t.ft[1].data(), t.ft[2].data()},
         bond_shear{t.bond_shear[0].data(), t.bond_shear[1].data(), t.bond_shear[2].data()},
-        bond_intact(t.bond_intact.data()),
+        bond_integrity(t.bond_integrity.data()),
         rolling{t.rolling[0].data(), t.rolling[1].data(), t.rolling[2].data()} {}
 };
 
@@ -54,7 +54,7 @@ void store_column(double* const (&c)[3], std::size_t k, const LaneVec& v) {
 }  // namespace
 
 // Flattened: the vectorizer sees only a loop body with every call (the law, the lane arithmetic) inlined.
-template <bool Bonds, bool Rolling, bool Measure, bool QuadraticYield>
+template <bool Bonds, bool Rolling, bool Measure, DemCell::BondForm Form>
 GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
   std::fill(force_.begin(), force_.end(), Vec3::Zero());
   std::fill(torque_.begin(), torque_.end(), Vec3::Zero());
@@ -103,18 +103,23 @@ GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
       if constexpr (Bonds) {
         // Masks as 0/1 factors rather than selects: the compiler would turn a select on `bonded`
         // back into a branch around the whole bond law, and then not vectorize the loop.
-        const double bonded = P.bond_intact[k];  // intact at the start of the step
+        const double integrity_before = P.bond_integrity[k];
+        const double bonded = integrity_before > 0 ? 1.0 : 0.0;  // not broken at the start of the step
         const LaneVec shear_before = load_column(P.bond_shear, k);
-        const BondStep bond = bond_step<QuadraticYield>(c, shear_before, P.bond_rest_gap[k], gap, n, twist, slip);
-        const double holds = bonded * (bond.holds ? 1.0 : 0.0);
+        const BondStep bond =
+            bond_step<Form != BondForm::kBrittlePower>(c, shear_before, P.bond_rest_gap[k], gap, n, twist, slip);
+        const double trial_integrity = Form == BondForm::kSofteningQuadratic
+                                           ? softening_integrity(c, bond.tension, bond.shear_squared)
+                                           : (bond.holds ? 1.0 : 0.0);
+        const double integrity = std::min(integrity_before, trial_integrity);
         // A bond keeps the history of the step that broke it; a broken one's no longer changes.
         store_column(P.bond_shear, k, bonded * bond.shear_displacement + (1 - bonded) * shear_before);
-        P.bond_intact[k] = holds;
+        P.bond_integrity[k] = integrity;
         // The normal dashpot acts once per pair: with the contact's, or with the bond's alone.
         const double bond_normal = bond.tension + (touching ? 0.0 : P.damping[k] * vn);
-        fn -= holds * bond_normal;
-        ft -= holds * c.kt_bond * bond.shear_displacement;
-        interacting = touching | (holds != 0);
+        fn -= integrity * bond_normal;
+        ft -= integrity * c.kt_bond * bond.shear_displacement;
+        interacting = touching | (integrity != 0);
       }
       const LaneVec f = fn * n + ft;  // force on j; i receives -f
       const LaneVec n_x_ft = cross(n, ft);
@@ -169,19 +174,22 @@ GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
   }
 }
 
-// One kernel per combination of effects: bit 0 bonds, 1 rolling, 2 measure, 3 quadratic bond yield.
+// One kernel per combination of effects: bit 0 bonds, 1 rolling, 2 measure; the bond's form above.
 template <std::size_t... Flags>
 constexpr auto DemCell::force_kernels(std::index_sequence<Flags...>) {
   using Kernel = void (DemCell::*)(double);
-  return std::array<Kernel, sizeof...(Flags)>{
-      &DemCell::compute_forces<(Flags & 1) != 0, (Flags & 2) != 0, (Flags & 4) != 0, (Flags & 8) != 0>...};
+  return std::array<Kernel, sizeof...(Flags)>{&DemCell::compute_forces<(Flags & 1) != 0, (Flags & 2) != 0,
+                                                                         (Flags & 4) != 0, BondForm(Flags >> 3)>...};
 }
 
 void DemCell::compute_forces(bool measure, double dt) {
-  static constexpr auto kKernels = force_kernels(std::make_index_sequence<16>());
+  static constexpr auto kKernels = force_kernels(std::make_index_sequence<8 * kBondForms>());
   const bool bonds = material_.effects.bonds, rolling = material_.effects.rolling;
-  const bool quadratic = !bonds || coef_.exponent == 2;
-  const std::size_t flags = (bonds ? 1 : 0) | (rolling ? 2 : 0) | (measure ? 4 : 0) | (quadratic ? 8 : 0);
+  const BondForm form = !bonds || (coef_.exponent == 2 && coef_.inv_softening == 0) ? BondForm::kBrittleQuadratic
+                        : coef_.inv_softening > 0                                    ? BondForm::kSofteningQuadratic
+                                                                                     : BondForm::kBrittlePower;
+  const std::size_t flags =
+      (bonds ? 1 : 0) | (rolling ? 2 : 0) | (measure ? 4 : 0) | (static_cast<std::size_t>(form) << 3);
   (this->*kKernels[flags])(dt);
 }
 

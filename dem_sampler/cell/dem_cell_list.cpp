@@ -34,7 +34,7 @@ void DemCell::rebuild_list() {
   std::vector<std::size_t> kept;  // indices into the old list
   auto key = [](const Pair& p) { return (static_cast<std::uint64_t>(p.i) << 32) | p.j; };
   auto keep_if_bonded = [&](std::size_t k_old) {
-    if (!old_bonds.empty() && old_bonds[k_old].intact) kept.push_back(k_old);
+    if (!old_bonds.empty() && old_bonds[k_old].intact()) kept.push_back(k_old);
   };
   std::size_t k_old = 0;
   for (std::size_t k = 0; k < scratch_pairs_.size(); ++k) {

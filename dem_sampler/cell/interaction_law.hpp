@@ -9,6 +9,7 @@
 // displacement of the contact point during the step, v_t δt; "twist" the pair's mean spin about n
 // times δt.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "dem_sampler/cell/cell_state.hpp"
@@ -23,6 +24,7 @@ struct InteractionCoefficients {
   double friction = 0;                    // μ
   double kn_bond = 0, kt_bond = 0;        // w_b k_n, w_b k_t with w_b = 1 - w_c
   double inv_tensile_strength = 0, inv_shear_strength = 0, exponent = 2;
+  double inv_softening = 0;               // 1/ρ (0 when brittle: never read)
   double rolling_stiffness = 0, rolling_friction = 0;
   double damping_ratio = 0;               // ζ from the restitution coefficient
 
@@ -35,6 +37,7 @@ struct InteractionCoefficients {
         inv_tensile_strength(m.effects.bonds ? 1 / m.bond.tensile_strength : 0),
         inv_shear_strength(m.effects.bonds ? 1 / m.bond.shear_strength : 0),
         exponent(m.bond.exponent),
+        inv_softening(m.bond.softening > 0 ? 1 / m.bond.softening : 0),
         rolling_stiffness(m.rolling.stiffness),
         rolling_friction(m.rolling.friction),
         damping_ratio(damping_ratio_from_restitution(m.contact.restitution)) {}
@@ -98,6 +101,7 @@ inline double bond_yield(const InteractionCoefficients& c, double tension, doubl
 struct BondStep {
   LaneVec shear_displacement;  // u_b after the step
   double tension;           // T = w_b k_n (d_n - g_0): the bond's normal force on j is -T
+  double shear_squared;     // S² = (w_b k_t |u_b|)²
   bool holds;               // Φ < 0: intact after the step
 };
 template <bool Quadratic>
@@ -106,9 +110,24 @@ inline BondStep bond_step(const InteractionCoefficients& c, const LaneVec& shear
   BondStep b;
   b.shear_displacement = rotated_with_contact_frame(shear_displacement, n, twist) + slip;
   b.tension = c.kn_bond * (gap - rest_gap);
-  const double shear_squared = c.kt_bond * c.kt_bond * squared_norm(b.shear_displacement);
-  b.holds = bond_yield<Quadratic>(c, b.tension, shear_squared) < 0;
+  b.shear_squared = c.kt_bond * c.kt_bond * squared_norm(b.shear_displacement);
+  b.holds = bond_yield<Quadratic>(c, b.tension, b.shear_squared) < 0;
   return b;
+}
+
+// Softening bond (BondLaw::softening ρ > 0; not in the seed, whose bonds are brittle). The load factor λ scales the elastic trial
+// forces onto the yield surface, Φ(T/λ, S/λ) = 0; for p = 2 that is λ² - t λ - s² = 0 with
+// t = T/T_0, s = S/S_0, so λ = (t + √(t² + 4 s²))/2 (λ >= 1 exactly where Φ >= 0). Past λ = 1 the
+// force falls linearly to zero at λ = 1 + ρ: the bond carries its trial forces times the secant
+// integrity w(λ) = (1 - (λ - 1)/ρ)/λ, clamped to [0, 1]. The caller keeps the least w the bond has
+// had, so a softened bond unloads and reloads along its secant, as a damaged spring, and never heals.
+// Along a fixed loading direction it dissipates ½ F_y δ_y (1 + ρ), F_y and δ_y its force and
+// displacement at yield.
+inline double softening_integrity(const InteractionCoefficients& c, double tension, double shear_squared) {
+  const double t = tension * c.inv_tensile_strength;
+  const double s2 = shear_squared * c.inv_shear_strength * c.inv_shear_strength;
+  const double load = std::max(0.5 * (t + std::sqrt(t * t + 4 * s2)), 1.0);
+  return std::max((1 - (load - 1) * c.inv_softening) / load, 0.0);
 }
 
 // Rolling resistance (optional): a rolling spring M <- R(M) - k_r Δθ_r, Δθ_r = ((ω_j - ω_i) δt)⊥n the

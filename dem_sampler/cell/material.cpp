@@ -38,6 +38,9 @@ void check(const Material& m) {
     require(finite(b.exponent) && b.exponent >= 1, "bond.exponent", "a number >= 1", b.exponent);
     require(finite(b.bonding_distance) && b.bonding_distance >= 0, "bond.bonding_distance",
             "a number >= 0", b.bonding_distance);
+    require(finite(b.softening) && b.softening >= 0, "bond.softening", "a number >= 0", b.softening);
+    require(b.softening == 0 || b.exponent == 2, "bond.exponent",
+            "2 when bond.softening > 0 (the softening law solves the quadratic yield surface)", b.exponent);
     require(c.contact_weight < 1, "contact.contact_weight",
             "a number < 1 when bonds are on (bonds carry 1 - w_c)", c.contact_weight);
   }

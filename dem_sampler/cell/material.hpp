@@ -14,12 +14,18 @@ struct ContactLaw {
   double contact_weight = 0.5;  // w_c in [0, 1]; the bond carries w_b = 1 - w_c
 };
 
-// Elastic-brittle bond (seed Fig. 1, "omitting bond damage").
+// Elastic-brittle bond (seed Fig. 1, "omitting bond damage"), or softening past its yield surface.
 struct BondLaw {
   double tensile_strength = 0;   // T_0 [N]
   double shear_strength = 0;     // S_0 [N]
   double exponent = 2;           // p in Φ = T/T_0 + (S/S_0)^p - 1
   double bonding_distance = 0;   // pairs with gap < ε·(R_i + R_j) are bonded at preparation
+  // ρ >= 0: past its yield surface a bond's force falls linearly to zero over ρ times its elastic
+  // displacement at yield (interaction_law.hpp, softening_integrity), so it dissipates (1 + ρ) times
+  // the elastic energy a brittle bond releases. 0: elastic-brittle, the seed's bond. Not in the seed:
+  // a less brittle bond, to study what the cell's brittleness does (README, "The two-scale cohesive
+  // column").
+  double softening = 0;
 };
 
 // Rolling resistance (optional effect): elastic rolling spring capped by μ_r R_eff f_n.

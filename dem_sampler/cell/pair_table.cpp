@@ -22,11 +22,11 @@ PairTable PairTable::from_rows(const std::vector<Pair>& pairs, const std::vector
   if (!bonds.empty()) {
     for (auto& c : t.bond_shear) c.resize(n);
     t.bond_rest_gap.resize(n);
-    t.bond_intact.resize(n);
+    t.bond_integrity.resize(n);
     for (std::size_t k = 0; k < n; ++k) {
       for (int a = 0; a < 3; ++a) t.bond_shear[a][k] = bonds[k].shear_displacement[a];
       t.bond_rest_gap[k] = bonds[k].rest_gap;
-      t.bond_intact[k] = bonds[k].intact ? 1.0 : 0.0;
+      t.bond_integrity[k] = bonds[k].integrity;
     }
   }
   if (!rolling.empty()) {
@@ -53,7 +53,7 @@ std::vector<Pair> PairTable::pair_rows() const {
 std::vector<Bond> PairTable::bond_rows() const {
   std::vector<Bond> rows(has_bonds() ? size() : 0);
   for (std::size_t k = 0; k < rows.size(); ++k)
-    rows[k] = Bond{Vec3(bond_shear[0][k], bond_shear[1][k], bond_shear[2][k]), bond_rest_gap[k], bond_intact[k] != 0};
+    rows[k] = Bond{Vec3(bond_shear[0][k], bond_shear[1][k], bond_shear[2][k]), bond_rest_gap[k], bond_integrity[k]};
   return rows;
 }
 
@@ -65,13 +65,13 @@ std::vector<Vec3> PairTable::rolling_rows() const {
 
 std::int64_t PairTable::intact_bonds() const {
   std::int64_t count = 0;
-  for (double intact : bond_intact) count += intact != 0 ? 1 : 0;
+  for (double integrity : bond_integrity) count += integrity > 0 ? 1 : 0;
   return count;
 }
 
 std::size_t PairTable::memory_bytes() const {
   auto bytes = [](const auto& v) { return v.capacity() * sizeof(v[0]); };
-  std::size_t total = bytes(i) + bytes(j) + bytes(image) + bytes(damping) + bytes(bond_rest_gap) + bytes(bond_intact);
+  std::size_t total = bytes(i) + bytes(j) + bytes(image) + bytes(damping) + bytes(bond_rest_gap) + bytes(bond_integrity);
   for (int a = 0; a < 3; ++a) total += bytes(ft[a]) + bytes(bond_shear[a]) + bytes(rolling[a]);
   return total;
 }

@@ -17,12 +17,12 @@ struct PairTable {
   // Bonds (empty unless the bonds effect is on).
   std::vector<double> bond_shear[3];         // u_b, total tangential displacement since bonding
   std::vector<double> bond_rest_gap;         // g_0
-  // 1 intact, 0 broken or never bonded: a double, so the force loop's masks all have one width.
-  std::vector<double> bond_intact;
+  // Bond::integrity: 1 intact, 0 broken or never bonded, in between a softening bond.
+  std::vector<double> bond_integrity;
   std::vector<double> rolling[3];            // rolling moment on j (empty unless rolling is on)
 
   std::size_t size() const { return i.size(); }
-  bool has_bonds() const { return !bond_intact.empty(); }
+  bool has_bonds() const { return !bond_integrity.empty(); }
   bool has_rolling() const { return !rolling[0].empty(); }
 
   // Rows to columns. `bonds` and `rolling` are parallel to `pairs` or empty (effect off).
@@ -31,7 +31,7 @@ struct PairTable {
   std::vector<Pair> pair_rows() const;
   std::vector<Bond> bond_rows() const;          // empty without bonds
   std::vector<Vec3> rolling_rows() const;       // empty without rolling
-  std::int64_t intact_bonds() const;
+  std::int64_t intact_bonds() const;  // bonds with integrity > 0
   std::size_t memory_bytes() const;
 };
 

@@ -27,7 +27,7 @@ std::int64_t break_most_tensile_bonds(CellState& state, const Mat3& stress, std:
   std::vector<std::size_t> intact;
   std::vector<double> traction(state.bonds.size(), 0.0);
   for (std::size_t k = 0; k < state.bonds.size(); ++k) {
-    if (!state.bonds[k].intact) continue;
+    if (!state.bonds[k].intact()) continue;
     const Pair& p = state.pairs[k];
     const Vec3 branch =
         state.h * (state.reduced_position[p.j] + shift_vector(static_cast<int>(p.image)).cast<double>() -
@@ -38,7 +38,7 @@ std::int64_t break_most_tensile_bonds(CellState& state, const Mat3& stress, std:
   }
   const std::int64_t to_break = std::max<std::int64_t>(0, static_cast<std::int64_t>(intact.size()) - keep);
   std::stable_sort(intact.begin(), intact.end(), [&](std::size_t a, std::size_t b) { return traction[a] > traction[b]; });
-  for (std::int64_t k = 0; k < to_break; ++k) state.bonds[intact[static_cast<std::size_t>(k)]].intact = false;
+  for (std::int64_t k = 0; k < to_break; ++k) state.bonds[intact[static_cast<std::size_t>(k)]].integrity = 0;
   return to_break;
 }
 

@@ -52,12 +52,13 @@ dem::Material read_material(const JsonNode& root) {
   m.contact.contact_weight = node.number_or("contact_weight", 0.5, Range::between(0, 1, false, false));
 
   if (const auto bond = effect_block(node, "bond", m.effects.bonds, "cohesion",
-                                     "an object {tensile_strength, shear_strength, exponent, bonding_distance}")) {
-    bond->allow_only({"tensile_strength", "shear_strength", "exponent", "bonding_distance"});
+                                     "an object {tensile_strength, shear_strength, exponent, bonding_distance, softening}")) {
+    bond->allow_only({"tensile_strength", "shear_strength", "exponent", "bonding_distance", "softening"});
     m.bond.tensile_strength = bond->number("tensile_strength", kPositive);
     m.bond.shear_strength = bond->number("shear_strength", kPositive);
     m.bond.exponent = bond->number_or("exponent", 2, Range::at_least(1));
     m.bond.bonding_distance = bond->number("bonding_distance", kNonNegative);
+    m.bond.softening = bond->number_or("softening", 0, kNonNegative);
   }
   if (const auto rolling = effect_block(node, "rolling", m.effects.rolling, "rolling_resistance",
                                         "an object {stiffness, friction}")) {

@@ -64,7 +64,7 @@ void write_cell_vtk(const std::filesystem::path& file, const dem::DemCell& cell)
   // that end is an extra point.
   std::vector<std::pair<std::size_t, std::size_t>> lines;
   for (std::size_t b = 0; b < state.bonds.size(); ++b) {
-    if (!state.bonds[b].intact) continue;
+    if (!state.bonds[b].intact()) continue;
     const dem::Pair& pair = state.pairs[b];
     const dem::Vec3 si = wrapped(state.reduced_position[pair.i]);
     dem::Vec3 d = wrapped(state.reduced_position[pair.j]) - si;

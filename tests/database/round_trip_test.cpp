@@ -1,6 +1,7 @@
 // Everything written to a library reads back exactly: material, template, path, records, snapshot.
 #include <gtest/gtest.h>
 
+#include "database/store/cell_state_io.hpp"
 #include "database/store/material_parameters.hpp"
 #include "tests/database/store_test_util.hpp"
 
@@ -17,6 +18,40 @@ TEST(MaterialParameters, JsonRoundTripAndHash) {
   EXPECT_NE(parameter_hash(m), parameter_hash(other));
   ASSERT_EQ(material_differences(m, other).size(), 1u);
   EXPECT_EQ(material_differences(m, other)[0], "effects.rolling: library true, given false");
+}
+
+TEST(MaterialParameters, BondSofteningIsZeroInOlderCataloguesAndTellsLibrariesApart) {
+  const dem::Material brittle = small_material();
+  const nlohmann::json older = material_to_json(brittle);
+  EXPECT_FALSE(older.contains(nlohmann::json::json_pointer("/bond/softening")))
+      << "a brittle material is written as before the parameter existed";
+  EXPECT_EQ(material_from_json(older).bond.softening, 0);
+  dem::Material softening = brittle;
+  softening.bond.softening = 4;
+  const nlohmann::json written = material_to_json(softening);
+  EXPECT_EQ(written.at(nlohmann::json::json_pointer("/bond/softening")), 4);
+  EXPECT_EQ(material_from_json(written).bond.softening, 4);
+  EXPECT_NE(parameter_hash(brittle), parameter_hash(softening));
+  ASSERT_EQ(material_differences(brittle, softening).size(), 1u);
+  EXPECT_EQ(material_differences(brittle, softening)[0], "bond.softening: library 0, given 4");
+}
+
+TEST(CellState, APartlySoftenedBondsIntegrityRoundTrips) {
+  TempDir tmp;
+  const dem::DemCell cell = small_cell();
+  StoredCell stored{cell.state(), cell.skin()};
+  ASSERT_GE(stored.state.bonds.size(), 3u);
+  stored.state.bonds[0].integrity = 0.25;
+  stored.state.bonds[1].integrity = 0;
+  stored.state.bonds[2].integrity = 1;
+  {
+    const h5::Object file = h5::create_file(tmp.path() / "state.h5");
+    write_cell_state(h5::create_group(file, "cell"), stored);
+  }
+  const h5::Object file = h5::open_file(tmp.path() / "state.h5", false);
+  const StoredCell back = read_cell_state(h5::open_group(file, "cell"));
+  EXPECT_EQ(first_difference(stored.state, back.state), "");
+  EXPECT_EQ(back.state.bonds[0].integrity, 0.25);
 }
 
 TEST(Record, RowRoundTripKeepsEveryColumn) {

@@ -108,7 +108,7 @@ inline std::string first_difference(const dem::CellState& a, const dem::CellStat
   for (std::size_t k = 0; k < a.bonds.size(); ++k) {
     const dem::Bond &p = a.bonds[k], &q = b.bonds[k];
     if (!same_bits(p.shear_displacement, q.shear_displacement) || !same_bits(p.rest_gap, q.rest_gap) ||
-        p.intact != q.intact)
+        p.integrity != q.integrity)
       return "bonds[" + std::to_string(k) + "]";
   }
   if (!same_bits(a.rolling_moment, b.rolling_moment)) return "rolling_moment";

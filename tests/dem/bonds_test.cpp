@@ -8,6 +8,8 @@
 
 #include <set>
 
+#include "dem_sampler/cell/preparation.hpp"
+#include "dem_sampler/cell/snow_preset.hpp"
 #include "tests/dem/dem_test_util.hpp"
 
 namespace grainbank::dem::test {
@@ -72,7 +74,7 @@ class BondedPair {
         pair = &st.pairs[k];
         s.bond = st.bonds[k];
       }
-    s.intact = pair && s.bond.intact;
+    s.intact = pair && s.bond.intact();
     s.contact_tangential = pair && s.gap < 0 ? pair->ft : Vec3::Zero();
     const double fn = s.force.dot(s.n);
     const Vec3 ft = s.force - fn * s.n;
@@ -141,7 +143,7 @@ void check_breakage(const Material& mat, const BreakRecord& rec) {
   EXPECT_LT(increment, 1e-3) << "load increment too coarse for this test";
   // The trial forces of the breaking step (kept in the bond's history) are on or outside the surface.
   const Bond& b = rec.at_break.bond;
-  EXPECT_FALSE(b.intact);
+  EXPECT_FALSE(b.intact());
   const double kn_b = (1 - mat.contact.contact_weight) * mat.contact.k_n;
   const double kt_b = (1 - mat.contact.contact_weight) * mat.contact.k_t;
   const double trial = yield(mat, kn_b * (rec.at_break.gap - b.rest_gap), kt_b * b.shear_displacement.norm());
@@ -304,6 +306,133 @@ TEST(Bond, StretchedBondOutsideVerletRangeKeepsItsForceAndNeighbourHistory) {
   }
   EXPECT_TRUE(rebuilt) << "test design: the Verlet list should have been rebuilt";
   EXPECT_EQ(cell.measures().bonds, 2);
+}
+
+// Softening bond (BondLaw::softening ρ, the crack band's; interaction_law.hpp softening_integrity).
+// Pure tension along x at 1 nm per step: δ_y = T_0/(w_b k_n) = 10 µm.
+Material softening_material(double rho) {
+  Material m = bond_material();
+  m.bond.softening = rho;
+  return m;
+}
+
+double yield_stretch(const Material& m) { return m.bond.tensile_strength / ((1 - m.contact.contact_weight) * m.contact.k_n); }
+
+// The bond's tension on the linear-softening envelope at stretch δ: elastic to T_0 at δ_y, then
+// falling linearly to zero at (1 + ρ) δ_y.
+double envelope(const Material& m, double stretch) {
+  const double dy = yield_stretch(m), rho = m.bond.softening;
+  if (stretch <= dy) return m.bond.tensile_strength * stretch / dy;
+  return std::max(m.bond.tensile_strength * (1 - (stretch / dy - 1) / rho), 0.0);
+}
+
+TEST(SofteningBond, FollowsTheLinearEnvelopeAndDissipatesOnePlusRhoTimesTheElasticEnergy) {
+  const double rho = 2, gap0 = 0.01e-3, dt = 1e-7;
+  const Material mat = softening_material(rho);
+  const double dy = yield_stretch(mat), t0 = mat.bond.tensile_strength;
+  BondedPair pair(mat, gap0, Vec3::UnitX(), 0.01);
+  Sample previous = pair.sample();
+  double work = 0, largest_miss = 0;
+  bool broke = false;
+  for (int k = 0; k < 35000; ++k) {
+    const Sample s = pair.step(dt);
+    const double stretch = s.gap - gap0;
+    largest_miss = std::max(largest_miss, std::abs(s.tension - envelope(mat, stretch)));
+    work += 0.5 * (s.tension + previous.tension) * (s.gap - previous.gap);
+    if (stretch > (1 + rho) * dy * 1.001) {
+      EXPECT_FALSE(s.intact) << "a bond stretched past (1 + ρ) δ_y carries nothing";
+      broke = true;
+    } else if (stretch > dy * 1.001 && stretch < (1 + rho) * dy * 0.999) {
+      EXPECT_TRUE(s.intact) << "a softening bond is not broken at δ/δ_y = " << stretch / dy;
+    }
+    previous = s;
+  }
+  EXPECT_TRUE(broke);
+  EXPECT_LT(largest_miss, 2e-3 * t0) << "tension off the linear-softening envelope";
+  // The triangle's area: ½ T_0 δ_y (1 + ρ).
+  EXPECT_NEAR(work, 0.5 * t0 * dy * (1 + rho), 5e-3 * 0.5 * t0 * dy * (1 + rho));
+}
+
+TEST(SofteningBond, UnloadsAndReloadsAlongItsSecantWithoutFurtherDamage) {
+  const double rho = 2, gap0 = 0.01e-3, dt = 1e-7, speed = 0.01;
+  const Material mat = softening_material(rho);
+  const double dy = yield_stretch(mat), kn_b = (1 - mat.contact.contact_weight) * mat.contact.k_n;
+  BondedPair pair(mat, gap0, Vec3::UnitX(), speed);
+  Sample s;
+  for (int k = 0; k < 20000; ++k) s = pair.step(dt);  // to δ = 2 δ_y: w = (1 - 1/ρ)/2 = 1/4
+  const double w = (1 - (2.0 - 1) / rho) / 2;
+  ASSERT_NEAR(s.gap - gap0, 2 * dy, 1e-3 * dy);
+  EXPECT_NEAR(s.bond.integrity, w, 1e-3);
+  // Reverse the pair and close it to δ = δ_y / 2, then open it again to 2 δ_y: a damaged spring of
+  // stiffness w k_b both ways, its integrity unchanged.
+  const auto run_with_velocity = [&](const CellState& from, double v, int steps) {
+    CellState st = from;
+    st.velocity = {Vec3(-0.5 * v, 0, 0), Vec3(0.5 * v, 0, 0)};
+    DemCell cell(st, mat, kSkin);
+    double largest_miss = 0;
+    for (int k = 0; k < steps; ++k) {
+      cell.step_with_velocity_gradient(Mat3::Zero(), dt);
+      const std::vector<Vec3> x = cell.positions();
+      const double stretch = (x[1] - x[0]).norm() - 2 * kR - gap0;
+      largest_miss = std::max(largest_miss, std::abs(cell.state().force[0].x() - w * kn_b * stretch));
+    }
+    EXPECT_LT(largest_miss, 2e-3 * w * mat.bond.tensile_strength) << "off the secant";
+    EXPECT_NEAR(cell.state().bonds.at(0).integrity, w, 1e-3);
+    return cell.state();
+  };
+  const CellState closed = run_with_velocity(pair.cell().state(), -speed, 15000);
+  const CellState reopened = run_with_velocity(closed, speed, 15000);
+  // Past 2 δ_y it softens again along the envelope.
+  DemCell cell(reopened, mat, kSkin);
+  for (int k = 0; k < 2000; ++k) cell.step_with_velocity_gradient(Mat3::Zero(), dt);
+  const std::vector<Vec3> x = cell.positions();
+  const double stretch = (x[1] - x[0]).norm() - 2 * kR - gap0;
+  EXPECT_NEAR(cell.state().force[0].x(), envelope(mat, stretch), 2e-3 * mat.bond.tensile_strength);
+  EXPECT_LT(cell.state().bonds.at(0).integrity, w);
+}
+
+TEST(SofteningBond, NeedsTheQuadraticYieldSurface) {
+  Material mat = softening_material(1);
+  mat.bond.exponent = 3;
+  EXPECT_THROW(check(mat), std::invalid_argument);
+  mat = softening_material(-1);
+  EXPECT_THROW(check(mat), std::invalid_argument);
+}
+
+// A bonded cell pulled apart along x (y and z held) to `strain` at a rate of 1/s, with bond softening
+// ρ. Returns {peak σ_xx [Pa], work per unit volume [J/m³]}.
+std::pair<double, double> pull_apart(const DemCell& prepared, double rho, double strain) {
+  Material m = prepared.material();
+  m.bond.softening = rho;
+  DemCell cell(prepared.state(), m, prepared.skin());
+  const int increments = 400;
+  const double rate = 1.0, duration = strain / rate / increments;
+  Mat3 increment = Mat3::Identity();
+  increment(0, 0) = std::exp(rate * duration);
+  double peak = 0, work = 0, previous = cell.stress()(0, 0);
+  for (int k = 0; k < increments; ++k) {
+    const double sxx = cell.advance(increment, duration, Substepping{0.1, 1, 0.2}).stress(0, 0);
+    peak = std::max(peak, sxx);
+    work += 0.5 * (sxx + previous) * rate * duration;
+    previous = sxx;
+  }
+  return {peak, work};
+}
+
+TEST(SofteningBond, ACellIsTheBrittleCellUntilABondYieldsAndThenTakesMoreWorkToPullApart) {
+  const DemCell prepared = prepare_cell(snow_material(), snow_preparation(60, 3));
+  // Below the first bond's yield the two cells are one elastic packing.
+  const auto [brittle_elastic_peak, brittle_elastic_work] = pull_apart(prepared, 0, 2e-4);
+  const auto [soft_elastic_peak, soft_elastic_work] = pull_apart(prepared, 4, 2e-4);
+  EXPECT_EQ(soft_elastic_peak, brittle_elastic_peak);
+  EXPECT_EQ(soft_elastic_work, brittle_elastic_work);
+  // Past it, each softening bond still carries what a brittle one has dropped.
+  const auto [brittle_peak, brittle_work] = pull_apart(prepared, 0, 0.01);
+  const auto [soft_peak, soft_work] = pull_apart(prepared, 4, 0.01);
+  std::printf("to 1 %% strain: peak %.0f / %.0f Pa, work %.1f / %.1f J/m3 (brittle / rho = 4)\n", brittle_peak,
+              soft_peak, brittle_work, soft_work);
+  EXPECT_GT(soft_work, brittle_work);
+  EXPECT_GE(soft_peak, brittle_peak);
 }
 
 }  // namespace

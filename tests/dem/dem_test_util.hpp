@@ -98,7 +98,7 @@ inline bool states_identical(const CellState& a, const CellState& b, std::string
   if (a.bonds.size() != b.bonds.size()) return fail("bonds.size");
   for (std::size_t k = 0; k < a.bonds.size(); ++k) {
     const Bond &p = a.bonds[k], &q = b.bonds[k];
-    if (p.shear_displacement != q.shear_displacement || p.rest_gap != q.rest_gap || p.intact != q.intact)
+    if (p.shear_displacement != q.shear_displacement || p.rest_gap != q.rest_gap || p.integrity != q.integrity)
       return fail("bonds");
   }
   if (a.rolling_moment != b.rolling_moment) return fail("rolling_moment");

@@ -59,7 +59,7 @@ PairSetup make_pair(Case c, const Vec3& centre, std::mt19937_64& rng) {
                       c == Case::kBondApartBreaks || c == Case::kBrokenBondInContact;
   if (bonded) {
     const bool breaks = c == Case::kBondBreaks || c == Case::kBondApartBreaks;
-    s.bond.intact = c != Case::kBrokenBondInContact;
+    s.bond.integrity = c != Case::kBrokenBondInContact ? 1.0 : 0.0;
     s.bond.rest_gap = gap - 1e-6;  // a little tension: T = w_b k_n · 1e-6 = 0.05 N
     // u_b: shear force w_b k_t |u_b| of 0.05 N (holds) or 0.5 N = 2 S_0 (breaks).
     s.bond.shear_displacement = (breaks ? 2e-5 : 2e-6) * random_unit(rng);
@@ -101,7 +101,7 @@ Expected expected_law(const Material& m, const PairSetup& s, const Vec3& xi, con
     ft = e.ft;
     e.interacting = true;
   }
-  if (s.bond.intact) {
+  if (s.bond.intact()) {
     e.bond.shear_displacement = turned(s.bond.shear_displacement, n, twist) + slip;
     const double tension = wb * m.contact.k_n * (gap - s.bond.rest_gap);
     const double shear = wb * m.contact.k_t * e.bond.shear_displacement.norm();
@@ -113,7 +113,7 @@ Expected expected_law(const Material& m, const PairSetup& s, const Vec3& xi, con
       ft -= wb * m.contact.k_t * e.bond.shear_displacement;
       e.interacting = true;
     } else {
-      e.bond.intact = false;
+      e.bond.integrity = 0;
     }
   }
   e.force_on_j = fn * n + ft;
@@ -153,7 +153,7 @@ void check_every_branch(double exponent) {
     p.image = kNoShift;
     st.pairs.push_back(p);
     st.bonds.push_back(s.bond);
-    intact += s.bond.intact ? 1 : 0;
+    intact += s.bond.intact() ? 1 : 0;
   }
   // No force at the start and L = 0: the first half kick leaves every velocity as set, so the loop
   // sees the velocities above at the positions after the drift.
@@ -180,7 +180,7 @@ void check_every_branch(double exponent) {
     EXPECT_LT((after.torque[i] - e.torque_i).norm(), scale * 1e-3);
     EXPECT_LT((after.torque[j] - e.torque_j).norm(), scale * 1e-3);
     EXPECT_LT((after.pairs[k].ft - e.ft).norm(), scale);
-    EXPECT_EQ(after.bonds[k].intact, e.bond.intact);
+    EXPECT_EQ(after.bonds[k].integrity, e.bond.integrity);
     EXPECT_LT((after.bonds[k].shear_displacement - e.bond.shear_displacement).norm(), 1e-18);
     love_weber += e.force_on_j * (xj - xi).transpose();
     interacting += e.interacting ? 1 : 0;

@@ -111,15 +111,15 @@ TEST(Regeneration, TheMostTensileBondsBreakFirst) {
   CellState st = snow_template().state();
   Mat3 tension = Mat3::Zero();
   tension(0, 0) = 1000;  // uniaxial tension along x: bonds along x carry it
-  const auto intact = std::count_if(st.bonds.begin(), st.bonds.end(), [](const Bond& b) { return b.intact; });
+  const auto intact = std::count_if(st.bonds.begin(), st.bonds.end(), [](const Bond& b) { return b.intact(); });
   const std::int64_t keep = intact / 2;
   const CellState before = st;
   EXPECT_EQ(break_most_tensile_bonds(st, tension, keep), intact - keep);
   double weakest_broken = 1e300, strongest_kept = -1e300, broken_sum = 0;
   for (std::size_t k = 0; k < st.bonds.size(); ++k) {
-    if (!before.bonds[k].intact) continue;
+    if (!before.bonds[k].intact()) continue;
     const double traction = normal_traction(st, k, tension);
-    if (st.bonds[k].intact) {
+    if (st.bonds[k].intact()) {
       strongest_kept = std::max(strongest_kept, traction);
     } else {
       weakest_broken = std::min(weakest_broken, traction);

@@ -128,7 +128,7 @@ TEST(LiveLaw, SeedEquation4SetsNoLimitOnACellInFreeFlight) {
   const LiveCellModel model(cell_template, LiveDemSettings{});
   dem::CellState spread = cell_template.state();
   spread.h *= 3;  // same reduced positions: every gap triples, F = 3 I
-  for (dem::Bond& b : spread.bonds) b.intact = false;
+  for (dem::Bond& b : spread.bonds) b.integrity = 0;
   dem::DemCell flying = model.cell_from(spread);
   flying.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);
   ASSERT_EQ(flying.contact_count(), 0u);
@@ -154,7 +154,7 @@ TEST(LiveLaw, ADispersedCellTakesNoDilation) {
   const auto spread_by = [&](double stretch) {
     dem::CellState spread = cell_template.state();
     spread.h.topRows<2>() *= stretch;  // in-plane, same reduced positions: F grows by stretch²
-    for (dem::Bond& b : spread.bonds) b.intact = false;
+    for (dem::Bond& b : spread.bonds) b.integrity = 0;
     dem::DemCell cell = model.cell_from(spread);
     cell.step_with_velocity_gradient(dem::Mat3::Zero(), 1e-9);
     return cell;

@@ -176,7 +176,7 @@ void expect_exact_resume_across_a_cell_change(std::size_t max_spheres, bool rege
 TEST(Restart, TheDispersedHoldsOfACellContinueExactly) {
   const dem::DemCell bonded = dem::prepare_cell(dem::snow_material(), dem::snow_preparation(30, 5));
   dem::CellState unbonded = bonded.state();
-  for (dem::Bond& b : unbonded.bonds) b.intact = false;
+  for (dem::Bond& b : unbonded.bonds) b.integrity = 0;
   const dem::DemCell cell(unbonded, bonded.material(), bonded.skin());
   const Mat2 dilation = 40 * Mat2::Identity();  // volume × 100 in ln(100)/80 ≈ 0.058 s
   const auto run = [](Solver& s, int steps) {
