@@ -103,15 +103,17 @@ GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
       if constexpr (Bonds) {
         // Masks as 0/1 factors rather than selects: the compiler would turn a select on `bonded`
         // back into a branch around the whole bond law, and then not vectorize the loop.
+        constexpr bool softening = Form == BondForm::kSofteningQuadratic;
         const double integrity_before = P.bond_integrity[k];
-        const double bonded = integrity_before > 0 ? 1.0 : 0.0;  // not broken at the start of the step
+        // 1 unless broken at the start of the step; ceil, not a compare, which would become a branch.
+        const double bonded = softening ? std::ceil(integrity_before) : integrity_before;
         const LaneVec shear_before = load_column(P.bond_shear, k);
         const BondStep bond =
             bond_step<Form != BondForm::kBrittlePower>(c, shear_before, P.bond_rest_gap[k], gap, n, twist, slip);
-        const double trial_integrity = Form == BondForm::kSofteningQuadratic
-                                           ? softening_integrity(c, bond.tension, bond.shear_squared)
-                                           : (bond.holds ? 1.0 : 0.0);
-        const double integrity = std::min(integrity_before, trial_integrity);
+        // A softening bond keeps the least integrity it has had; a brittle one holds or breaks.
+        const double integrity = softening
+                                     ? std::min(integrity_before, softening_integrity(c, bond.tension, bond.shear_squared))
+                                     : bonded * (bond.holds ? 1.0 : 0.0);
         // A bond keeps the history of the step that broke it; a broken one's no longer changes.
         store_column(P.bond_shear, k, bonded * bond.shear_displacement + (1 - bonded) * shear_before);
         P.bond_integrity[k] = integrity;
