@@ -176,7 +176,7 @@ GRAINBANK_VECTOR_LOOP void DemCell::compute_forces(double dt) {
   }
 }
 
-// One kernel per combination of effects: bit 0 bonds, 1 rolling, 2 measure; the bond's form above.
+// One kernel per combination of effects: bit 0 bonds, 1 rolling, 2 measure; bits 3-4 the BondForm.
 template <std::size_t... Flags>
 constexpr auto DemCell::force_kernels(std::index_sequence<Flags...>) {
   using Kernel = void (DemCell::*)(double);

@@ -1,6 +1,6 @@
 // The interaction law between two spheres i and j: frictional visco-elastic contact in parallel
-// with an elastic-brittle bond, as in seed Fig. 1 ("omitting bond damage"). All of the force law
-// lives here; dem_cell_forces.cpp only gathers geometry and scatters the results.
+// with an elastic-brittle bond, as in seed Fig. 1 ("omitting bond damage"), or a softening one. All of
+// the force law lives here; dem_cell_forces.cpp only gathers geometry and scatters the results.
 //
 // Conventions: n is the unit vector from i to j, gap d_n = |ℓ| - R_i - R_j (< 0: overlap), forces
 // are those exerted on j (i receives the opposite), a positive normal force pushes j away from i.
@@ -115,8 +115,8 @@ inline BondStep bond_step(const InteractionCoefficients& c, const LaneVec& shear
   return b;
 }
 
-// Softening bond (BondLaw::softening ρ > 0; not in the seed, whose bonds are brittle). The load factor λ scales the elastic trial
-// forces onto the yield surface, Φ(T/λ, S/λ) = 0; for p = 2 that is λ² - t λ - s² = 0 with
+// Softening bond (BondLaw::softening ρ > 0; not in the seed, whose bonds are brittle). The load
+// factor λ scales the elastic trial forces onto the yield surface, Φ(T/λ, S/λ) = 0; for p = 2 that is λ² - t λ - s² = 0 with
 // t = T/T_0, s = S/S_0, so λ = (t + √(t² + 4 s²))/2 (λ >= 1 exactly where Φ >= 0). Past λ = 1 the
 // force falls linearly to zero at λ = 1 + ρ: the bond carries its trial forces times the secant
 // integrity w(λ) = (1 - (λ - 1)/ρ)/λ, clamped to [0, 1]. The caller keeps the least w the bond has
