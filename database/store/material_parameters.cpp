@@ -6,6 +6,7 @@
 #include <charconv>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 #include <stdexcept>
 
 namespace grainbank::db {
@@ -112,24 +113,26 @@ std::string parameter_hash(const dem::Material& material) {
   return hex16(hash);
 }
 
+namespace {
+
+// Every parameter, later ones included, as (name, shortest text), in the lists' order.
+std::vector<std::pair<std::string, std::string>> named_texts(const dem::Material& material) {
+  std::vector<std::pair<std::string, std::string>> texts;
+  const auto add = [&](const char* name, const auto& value) { texts.emplace_back(name, to_text(value)); };
+  visit_parameters(material, add);
+  visit_later_parameters(material, [&](const char* name, const auto& value, const auto&) { add(name, value); });
+  return texts;
+}
+
+}  // namespace
+
 std::vector<std::string> material_differences(const dem::Material& library, const dem::Material& given) {
-  std::vector<std::string> library_values, given_values, names;
-  visit_parameters(library, [&](const char* name, const auto& value) {
-    names.emplace_back(name);
-    library_values.push_back(to_text(value));
-  });
-  visit_later_parameters(library, [&](const char* name, const auto& value, const auto&) {
-    names.emplace_back(name);
-    library_values.push_back(to_text(value));
-  });
-  visit_parameters(given, [&](const char*, const auto& value) { given_values.push_back(to_text(value)); });
-  visit_later_parameters(given, [&](const char*, const auto& value, const auto&) {
-    given_values.push_back(to_text(value));
-  });
+  const auto library_texts = named_texts(library), given_texts = named_texts(given);
   std::vector<std::string> differences;
-  for (std::size_t k = 0; k < names.size(); ++k)
-    if (library_values[k] != given_values[k])
-      differences.push_back(names[k] + ": library " + library_values[k] + ", given " + given_values[k]);
+  for (std::size_t k = 0; k < library_texts.size(); ++k)
+    if (library_texts[k].second != given_texts[k].second)
+      differences.push_back(library_texts[k].first + ": library " + library_texts[k].second + ", given " +
+                            given_texts[k].second);
   return differences;
 }
 

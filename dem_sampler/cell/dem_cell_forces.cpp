@@ -187,9 +187,10 @@ constexpr auto DemCell::force_kernels(std::index_sequence<Flags...>) {
 void DemCell::compute_forces(bool measure, double dt) {
   static constexpr auto kKernels = force_kernels(std::make_index_sequence<8 * kBondForms>());
   const bool bonds = material_.effects.bonds, rolling = material_.effects.rolling;
-  const BondForm form = !bonds || (coef_.exponent == 2 && coef_.inv_softening == 0) ? BondForm::kBrittleQuadratic
-                        : coef_.inv_softening > 0                                    ? BondForm::kSofteningQuadratic
-                                                                                     : BondForm::kBrittlePower;
+  const BondForm form = !bonds                   ? BondForm::kBrittleQuadratic
+                        : coef_.inv_softening > 0 ? BondForm::kSofteningQuadratic
+                        : coef_.exponent == 2     ? BondForm::kBrittleQuadratic
+                                                  : BondForm::kBrittlePower;
   const std::size_t flags =
       (bonds ? 1 : 0) | (rolling ? 2 : 0) | (measure ? 4 : 0) | (static_cast<std::size_t>(form) << 3);
   (this->*kKernels[flags])(dt);
