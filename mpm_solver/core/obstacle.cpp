@@ -7,8 +7,8 @@
 
 namespace grainbank::mpm {
 
-Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, double removal_time)
-    : shape_(std::move(shape)), contact_(contact), velocity_(velocity), removal_time_(removal_time) {
+Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, ObstacleRelease release)
+    : shape_(std::move(shape)), contact_(contact), velocity_(velocity), release_(release) {
   check(shape_);
   box_min_ = box_max_ = shape_.vertices.front();
   for (const Vec2& v : shape_.vertices) {
@@ -22,6 +22,8 @@ Obstacle::Obstacle(Polyline shape, ContactParameters contact, Vec2 velocity, dou
   if (!(contact_.damping_ratio >= 0 && contact_.damping_ratio <= 1))
     throw std::invalid_argument("damping: expected a number in [0, 1]");
   if (!velocity_.allFinite()) throw std::invalid_argument("velocity: expected finite numbers");
+  if (!(release_.start >= 0) || !(release_.end >= release_.start))
+    throw std::invalid_argument("release: expected 0 <= start <= end");
 }
 
 std::string Obstacle::penetration_message(double overlap, double radius, double mass, const Vec2& v) const {
@@ -63,13 +65,25 @@ std::optional<Obstacle::Touch> Obstacle::touching(const Vec2& x, double radius, 
   return Touch{(inside ? -to_point : to_point) / d, overlap};
 }
 
-Vec2 Obstacle::force(std::uint32_t id, const Touch& touch, const Vec2& v, double radius, double mass, double dt) {
-  if (touch.overlap > kMaxPenetration * radius)
-    throw PenetrationError(penetration_message(touch.overlap, radius, mass, v));
+Vec2 Obstacle::force(std::uint32_t id, const Touch& touch, const Vec2& v, double radius, double mass, double t,
+                     double dt) {
+  // Held or let go of (ObstacleRelease): the spring and dashpot stay as they are, and a release caps
+  // their normal force at the share s(t) of what the point had at its start.
+  const bool letting_go = releasing(t);
+  if (touch.overlap > kMaxPenetration * radius) {
+    if (!letting_go) throw PenetrationError(penetration_message(touch.overlap, radius, mass, v));
+    if (contact_.friction > 0) tangential_[id] = 0;
+    if (std::isnan(held_[id])) held_[id] = 0;
+    return Vec2::Zero();
+  }
   const Vec2& n = touch.normal;
   const Vec2 v_rel = v - velocity_;
   const double damping = 2 * contact_.damping_ratio * std::sqrt(mass * contact_.k_n);
-  const double fn = std::max(0.0, contact_.k_n * touch.overlap - damping * v_rel.dot(n));
+  double fn = std::max(0.0, contact_.k_n * touch.overlap - damping * v_rel.dot(n));
+  if (letting_go) {
+    if (std::isnan(held_[id])) held_[id] = fn;
+    fn = std::min(fn, held_[id] * (release_.end - t) / (release_.end - release_.start));
+  }
   if (contact_.friction == 0) return fn * n;
   const Vec2 tangent(-n.y(), n.x());
   const double cap = contact_.friction * fn;

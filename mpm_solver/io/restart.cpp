@@ -1,5 +1,6 @@
 #include "mpm_solver/io/restart.hpp"
 
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -90,6 +91,13 @@ void write_contents(const h5::Object& root, const Solver& solver, const RunRecor
     tangential.insert(tangential.end(), history.begin(), history.end());
   }
   h5::write_array(root, "obstacle_tangential", tangential, solver.points().size());
+  std::vector<double> held;
+  for (const Obstacle& o : solver.obstacles()) {
+    std::vector<double> forces = o.held_forces();
+    forces.resize(solver.points().size(), std::numeric_limits<double>::quiet_NaN());
+    held.insert(held.end(), forces.begin(), forces.end());
+  }
+  h5::write_array(root, "obstacle_held", held, solver.points().size());
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
     LawEntries entries(root, k);
     solver.law(k).save_state(entries);
@@ -136,6 +144,16 @@ RunRecord read_restart(const std::filesystem::path& file, Solver& solver) {
   for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
     solver.obstacle(o).set_tangential_history(
         std::vector<double>(tangential.begin() + o * points.size(), tangential.begin() + (o + 1) * points.size()));
+  // Restarts written before gates could be let go of gradually hold none.
+  if (h5::has_child(root, "obstacle_held")) {
+    const std::vector<double> held = h5::read_array<double>(root, "obstacle_held", points.size());
+    if (held.size() != tangential.size())
+      throw std::runtime_error(file.string() + ": the restart and the scene differ in obstacles or points");
+    for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
+      if (solver.obstacle(o).release().gradual())
+        solver.obstacle(o).set_held_forces(
+            std::vector<double>(held.begin() + o * points.size(), held.begin() + (o + 1) * points.size()));
+  }
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
     LawEntries entries(root, k);
     solver.law(k).restore_state(entries);

@@ -1,9 +1,10 @@
 // Restart files (HDF5): everything that evolves during a run — time, step count, every material
-// point, the obstacles' tangential contact history, the full state of every live DEM cell and what
+// point, the obstacles' contact history, the full state of every live DEM cell and what
 // the points of cache/hybrid laws carry (damage, steps inside the tolerance, replay history) — so
 // that a solver built from the same scene and restored continues exactly like the uninterrupted run.
 // Layout: attributes format (kRestartFormat), time, steps, kinetic_energy_peak, kinetic_energy_peak_since; dataset points (one row per point, see restart.cpp); dataset
-// obstacle_tangential (obstacles × points); group law_<i>_cell_<slot> per live cell (as in the
+// obstacle_tangential and obstacle_held (obstacles × points; the normal force each point had when a
+// gradual release began, NaN before it; absent in older files); group law_<i>_cell_<slot> per live cell (as in the
 // library's cell snapshots, database/SCHEMA.md); datasets law_<i>_library_points and
 // law_<i>_replay_history per cache/hybrid law.
 #pragma once

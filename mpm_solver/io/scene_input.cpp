@@ -127,7 +127,7 @@ void read_region(const JsonNode& node, Solver& solver, const std::vector<std::st
 }
 
 Obstacle read_obstacle(const JsonNode& node, bool friction) {
-  node.allow_only({"line", "polygon", "k_n", "k_t", "friction", "damping", "velocity", "remove_at"});
+  node.allow_only({"line", "polygon", "k_n", "k_t", "friction", "damping", "velocity", "remove_at", "release"});
   if (node.has("line") == node.has("polygon")) node.fail("an obstacle needs exactly one of \"line\" and \"polygon\"");
   if (!friction && (node.has("friction") || node.has("k_t")))
     node.fail("\"friction\" and \"k_t\" need effects.boundary_friction");
@@ -139,8 +139,15 @@ Obstacle read_obstacle(const JsonNode& node, bool friction) {
   c.friction = friction ? node.number("friction", Range::at_least(0)) : 0;
   c.damping_ratio = node.number_or("damping", 0.5, Range::between(0, 1, false, false));
   const Vec2 velocity = node.has("velocity") ? vec2(node.at("velocity", "")) : Vec2::Zero();
-  const double removal = node.number_or("remove_at", kInfinity, Range::at_least(0));
-  return common::at_node(node, [&] { return Obstacle(std::move(shape), c, velocity, removal); });
+  if (node.has("remove_at") && node.has("release"))
+    node.fail("give either \"remove_at\" (a sudden removal) or \"release\" (letting go over an interval), not both");
+  ObstacleRelease release = ObstacleRelease::at(node.number_or("remove_at", kInfinity, Range::at_least(0)));
+  if (const auto r = node.find("release")) {
+    r->allow_only({"start", "end"});
+    release = {r->number("start", Range::at_least(0)), r->number("end", Range::at_least(0))};
+    if (!(release.end > release.start)) r->fail("expected end > start (a sudden removal is \"remove_at\")");
+  }
+  return common::at_node(node, [&] { return Obstacle(std::move(shape), c, velocity, release); });
 }
 
 Gravity read_gravity(const JsonNode& node) {

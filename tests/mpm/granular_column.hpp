@@ -52,7 +52,7 @@ inline ColumnResult collapse(const ColumnSetup& c) {
                                ContactParameters{k_n, k_n, 0.5, 0.5}));
   solver.add_obstacle(Obstacle(Polyline{{Vec2(wall, base), Vec2(wall, top)}, false}, ContactParameters{k_n, k_n, 0.3, 0.5}));
   solver.add_obstacle(Obstacle(Polyline{{Vec2(wall + L0, base), Vec2(wall + L0, top)}, false},
-                               ContactParameters{k_n, k_n, 0.3, 0.5}, Vec2::Zero(), gate_removal));
+                               ContactParameters{k_n, k_n, 0.3, 0.5}, Vec2::Zero(), ObstacleRelease::at(gate_removal)));
   solver.set_gravity(Gravity{Vec2(0, -9.81), std::nullopt});
 
   const double radius = 0.5 * h / c.points_per_cell;

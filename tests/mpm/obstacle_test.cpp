@@ -84,5 +84,44 @@ TEST(Obstacle, AMovingLineTouchesExactlyTheDisksThatOverlapItWhereItIsNow) {
   sweep(line, velocity * t, t, [&](const Vec2& x) { return std::pair{segment_distance(x, a, b), false}; });
 }
 
+TEST(Obstacle, LettingGoItCapsEachPointsForceAtAFallingShareOfWhatItHeld) {
+  // A floor let go of over [1, 3] s, a disk resting on it with `held` of overlap.
+  Obstacle floor(Polyline{{Vec2(-1, 0), Vec2(1, 0)}, false}, ContactParameters{kStiffness, 0, 0, 0}, Vec2::Zero(),
+                 ObstacleRelease{1, 3});
+  floor.reserve_points(2);
+  const auto force_at = [&](std::uint32_t id, double overlap, double t) {
+    return floor
+        .contact_force(id, Vec2(0, kRadius - overlap), [](const Vec2&) { return Vec2(0, 0); }, kRadius, 1.0, t, 1e-4)
+        .force.y();
+  };
+  const double held = 0.2 * kRadius, deep = 0.8 * kRadius;
+  EXPECT_NEAR(force_at(0, held, 0.5), kStiffness * held, 1e-9 * kStiffness);
+  // Held before the start, a disk pressed that deep is an error.
+  EXPECT_THROW(force_at(0, deep, 0.5), PenetrationError);
+  // At the start the point holds what it had; pressed further, it gets no more than s(t) of that.
+  EXPECT_NEAR(force_at(0, held, 1), kStiffness * held, 1e-9 * kStiffness);
+  EXPECT_NEAR(force_at(0, 2 * held, 2), 0.5 * kStiffness * held, 1e-9 * kStiffness);
+  EXPECT_NEAR(force_at(0, 2 * held, 2.9), 0.05 * kStiffness * held, 1e-9 * kStiffness);
+  // Backed off, it gets its spring's force, below the cap.
+  EXPECT_NEAR(force_at(0, 0.01 * kRadius, 2), 0.01 * kStiffness * kRadius, 1e-9 * kStiffness);
+  // Let go of, a disk pressed past the limit passes.
+  EXPECT_EQ(force_at(0, deep, 2), 0.0);
+  // A point clear of it at the start is not held afterwards.
+  EXPECT_EQ(force_at(1, 0.0, 1.5), 0.0);
+  EXPECT_EQ(force_at(1, held, 2), 0.0);
+  EXPECT_TRUE(floor.active(2.999));
+  EXPECT_FALSE(floor.active(3));
+  // A sudden removal holds fully until it goes.
+  Obstacle gate(Polyline{{Vec2(-1, 0), Vec2(1, 0)}, false}, ContactParameters{kStiffness, 0, 0, 0}, Vec2::Zero(),
+                ObstacleRelease::at(1));
+  gate.reserve_points(1);
+  EXPECT_NEAR(gate.contact_force(0, Vec2(0, kRadius - held), [](const Vec2&) { return Vec2(0, 0); }, kRadius, 1.0,
+                                 0.999, 1e-4).force.y(), kStiffness * held, 1e-9 * kStiffness);
+  EXPECT_FALSE(gate.active(1));
+  EXPECT_THROW(Obstacle(Polyline{{Vec2(-1, 0), Vec2(1, 0)}, false}, ContactParameters{kStiffness, 0, 0, 0},
+                        Vec2::Zero(), ObstacleRelease{2, 1}),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace grainbank::mpm

@@ -141,7 +141,14 @@ TEST(Scene, ErrorsNameTheFileAndThePath) {
                "bad.json: /regions/0/material: expected the name of a material, got a string (\"c\")");
   expect_error("\"k_n\": 1e6,", "\"kn\": 1e6,",
                "bad.json: /obstacles/0/kn: unknown key; allowed keys here: line, polygon, k_n, k_t, friction, "
-               "damping, velocity, remove_at");
+               "damping, velocity, remove_at, release");
+  expect_error("\"remove_at\": 1", "\"remove_at\": 1, \"release\": {\"start\": 1, \"end\": 2}",
+               "bad.json: /obstacles/0: give either \"remove_at\" (a sudden removal) or \"release\" (letting go over "
+               "an interval), not both");
+  expect_error("\"remove_at\": 1", "\"release\": {\"start\": 1, \"end\": 1}",
+               "bad.json: /obstacles/0/release: expected end > start (a sudden removal is \"remove_at\")");
+  expect_error("\"remove_at\": 1", "\"release\": {\"start\": 1}",
+               "bad.json: /obstacles/0/release/end: required field missing; expected a number >= 0");
   const std::string dp = "\"tensile_strength\": 10";
   expect_error(dp, dp + ", \"inertial_rheology\": {\"mu_2\": 0.7, \"I_0\": 0.3}",
                "bad.json: /materials/1/inertial_rheology/I_0: unknown key; allowed keys here: mu_2, inertial_number_0, "

@@ -20,7 +20,7 @@ TEST(TimeStep, IsTheMinimumOfTheCriteria) {
   // A stiff obstacle takes over while it exists; a removed one no longer counts.
   const double k = 1e9, mass = rho * 0.05 * 0.05;
   solver.add_obstacle(Obstacle(Polyline{{Vec2(0, 0.1), Vec2(1, 0.1)}, false}, ContactParameters{k, 0, 0, 0}, Vec2::Zero(),
-                               0.5));
+                               ObstacleRelease::at(0.5)));
   EXPECT_NEAR(solver.time_step_limits().contact, 0.2 * std::sqrt(mass / k), 1e-15);
   EXPECT_NEAR(solver.stable_time_step(), 0.2 * std::sqrt(mass / k), 1e-15);
 
@@ -36,7 +36,7 @@ TEST(TimeStep, RemovedObstacleNoLongerLimits) {
   Solver solver = testing::elastic_solver(Grid(Vec2(0, 0), 0.1, 10, 10), 1000, 1e6, 0.0);
   seed_region(solver, 0, rectangle(Vec2(0.2, 0.2), Vec2(0.6, 0.6)), 2);
   solver.add_obstacle(Obstacle(Polyline{{Vec2(0, 0.1), Vec2(1, 0.1)}, false}, ContactParameters{1e9, 0, 0, 0},
-                               Vec2::Zero(), 1e-6));
+                               Vec2::Zero(), ObstacleRelease::at(1e-6)));
   const double before = solver.stable_time_step();
   solver.step(before);
   solver.step(solver.stable_time_step());

@@ -131,7 +131,7 @@ class ThresholdResolutionTest(unittest.TestCase):
 
     def test_the_scene_seeds_the_points_per_cell_and_the_brackets_keep_them_apart(self):
         scene = json.loads(live_threshold.SCENE.read_text())
-        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 2)
+        settings, _, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 2)
         self.assertEqual(settings["/regions/0/points_per_cell"], 2)
         row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None}
         one, two = {**row, "stands": True}, {**row, "points_per_cell": 2, "stands": False}
@@ -142,9 +142,9 @@ class ThresholdResolutionTest(unittest.TestCase):
 
     def test_the_floor_friction_is_the_scenes_unless_given_and_is_bracketed_apart(self):
         scene = json.loads(live_threshold.SCENE.read_text())
-        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1)
+        settings, _, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1)
         self.assertFalse([pointer for pointer in settings if pointer.endswith("/friction")])
-        settings, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1, 0.0)
+        settings, _, _ = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1, 0.0)
         (floor,) = [k for k, o in enumerate(scene["obstacles"]) if o["line"][0][1] == o["line"][1][1]]
         self.assertEqual(settings[f"/obstacles/{floor}/friction"], 0.0)
         row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None}
@@ -163,6 +163,23 @@ class ThresholdResolutionTest(unittest.TestCase):
         self.assertEqual(scenes.transfer_settings("apic_flip:50"),
                          ({"/integration/transfer": {"apic_flip": {"pic_rate": 50.0}}}, "_apic_flip50"))
         self.assertEqual(scenes.transfer_settings(None), ({}, ""))
+
+
+    def test_a_gate_let_go_of_gradually_releases_over_its_time_and_is_bracketed_apart(self):
+        scene = json.loads(live_threshold.SCENE.read_text())
+        (gate,) = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
+        settings, start, end = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1)
+        self.assertEqual(settings[f"/obstacles/{gate}"]["remove_at"], start)
+        self.assertEqual(end, start)
+        settings, start, end = live_threshold.column_settings(scene, 0.3, 0.2, 0.05, None, 1, release=0.1)
+        self.assertNotIn("remove_at", settings[f"/obstacles/{gate}"])
+        self.assertEqual(settings[f"/obstacles/{gate}"]["release"], {"start": start, "end": start + 0.1})
+        self.assertEqual(end, start + 0.1)
+        row = {"height": 0.3, "cell_size": 0.05, "nonlocal_length": None}
+        sudden, gradual = {**row, "stands": False}, {**row, "release": 0.1, "stands": True}
+        self.assertEqual(live_threshold.resolution(gradual), "local, H0/h = 6, gate let go of over 0.1 s")
+        self.assertEqual(live_threshold.threshold_brackets([sudden, gradual]),
+                         {"local, H0/h = 6": (None, 0.3), "local, H0/h = 6, gate let go of over 0.1 s": (0.3, None)})
 
 
 class CornerStressTest(WorkflowTest):
@@ -190,6 +207,27 @@ class CornerStressTest(WorkflowTest):
                     self.assertGreaterEqual(corner["peak_time"], 0.08)
         self.assertEqual(result["refinement"][1]["corners"]["toe"]["point"], [0.375, 0.225])
         self.assertEqual(result["refinement"][1]["corners"]["heel"]["point"], [0.225, 0.225])
+
+    def test_a_gate_let_go_of_over_many_wave_transits_unloads_the_corners_without_overshoot(self):
+        # The twin's wave crosses the 0.3 m column in H0 / sqrt(E/ρ) = 7 ms; let go of over 0.1 s, the
+        # face unloads quasi-statically and the corners' peaks stay at their settled stress, where a
+        # sudden removal's unloading wave overshoots it.
+        peaks = {}
+        for release in (None, 0.1):
+            out = self.out / f"corner_release{release}"
+            run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "corner_stress.py", out, "--build", BUILD,
+                 "--threads", "1", "--column", "0.3", "0.2", "--ratios", "12", "--floor-friction", "0",
+                 "--end", "0.5", "--average-from", "0.3"] + ([] if release is None else ["--release", str(release)]))
+            result = json.loads((out / "corner_stress.json").read_text())
+            self.assertEqual(result["release"], release)
+            (twin,) = result["refinement"]
+            peaks[release] = {name: (c["peak_two_tau_max"], c["two_tau_max"]) for name, c in twin["corners"].items()}
+        for name in ("heel", "toe"):
+            with self.subTest(corner=name):
+                gradual_peak, settled = peaks[0.1][name]
+                self.assertLess(gradual_peak, 1.02 * settled)
+                sudden_peak, _ = peaks[None][name]
+                self.assertGreater(sudden_peak, gradual_peak + 0.02 * settled)
 
     def test_refuses_a_file_that_is_not_a_threshold_result_before_anything_runs(self):
         (self.out / "not_runs.json").write_text(json.dumps({"runs": {"height": 0.3}}))

@@ -27,6 +27,7 @@ weight above it (a check of the column's equilibrium).
   /usr/bin/python3 corner_stress.py OUT [--column 0.3 0.2 --ratios 6 12 24 48] [--floor-friction MU]
                                     [--threshold live_threshold.json ...]
                                     [--young 1e6] [--poisson 0.3] [--end 1.0] [--average-from 0.6]
+                                    [--release T]
                                     [--build BUILD] [--threads N]
 
 Writes OUT/corner_stress.md and OUT/corner_stress.json; the twins' runs stay in OUT/twins/ and are
@@ -59,10 +60,10 @@ def corners(width):
     return {"heel": [x0, y0], "toe": [x0 + width, y0]}
 
 
-def twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end):
+def twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end, release):
     """Writes the elastic twin of live_threshold.py's column `height` × `width` on a grid of `h`, its
-    corners' points tracked."""
-    settings, _ = column_settings(BASE_SCENE, height, width, h, None, 1, floor_friction)
+    corners' points tracked, the gate removed at once or let go of over `release` [s]."""
+    settings, _, _ = column_settings(BASE_SCENE, height, width, h, None, 1, floor_friction, release)
     settings.update({"/time/end": end, "/time/output_interval": 0.02, "/time/series_interval": SERIES_INTERVAL})
     scene = scenes.variant(build, SCENE, scene_file, "live", None, {"cell": str(CELL)}, settings)
     scene["materials"] = [{"name": "snow", "law": "elastic", "density": DENSITY, "young": young, "poisson": poisson}]
@@ -80,16 +81,17 @@ def finished(run):
         return False
 
 
-def measure_twin(build, out, height, width, h, floor_friction, young, poisson, end, average_from, threads):
+def measure_twin(build, out, height, width, h, floor_friction, young, poisson, end, average_from, threads,
+                 release=None):
     """The twin's corners and bottom row: their stresses averaged over the snapshots from
     `average_from`, and the corners' peaks after the gate's removal."""
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + ("" if floor_friction is None else f"_floor{floor_friction:g}")
-            + f"_E{young:g}_nu{poisson:g}_to{end:g}")
+            + f"_E{young:g}_nu{poisson:g}_to{end:g}" + ("" if release is None else f"_release{release:g}"))
     run = out / "twins" / name
     if not finished(run):  # a finished twin is reused as it is
         scene_file = out / "twins" / f"{name}.json"
         scene_file.parent.mkdir(parents=True, exist_ok=True)
-        twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end)
+        twin_scene(build, scene_file, height, width, h, floor_friction, young, poisson, end, release)
         done = subprocess.run([str(build / "mpm_solver" / "mpm_solver"), str(scene_file), "--out", str(run),
                                "--threads", str(threads)], capture_output=True, text=True)
         if done.returncode != 0:
@@ -130,9 +132,9 @@ def twin_figures(xy, stress, corners, height, h):
     return {"corners": found, "bottom_row_load": -float(np.mean(stress[bottom, 1])) / above_bottom_row}
 
 
-def threshold_rows(files):
-    """The local, one-point-per-cell runs of the scene's transfer in live_threshold.json `files`; raises
-    ValueError naming a file that is not one."""
+def threshold_rows(files, release=None):
+    """The local, one-point-per-cell runs of the scene's transfer and the gate's `release` in
+    live_threshold.json `files`; raises ValueError naming a file that is not one."""
     rows = []
     for file in files:
         try:
@@ -143,7 +145,7 @@ def threshold_rows(files):
             raise ValueError(f"{file}: expected a live_threshold.json with a list 'runs' ({error!r})") from None
         rows += [{**r, "source": str(file)} for r in runs
                  if regularization(r) == "local" and points_per_cell(r) == 1 and r.get("transfer") is None
-                 and r["stands"] is not None]
+                 and r.get("release") == release and r["stands"] is not None]
     return rows
 
 
@@ -176,6 +178,8 @@ def main():
     parser.add_argument("--threshold", type=Path, nargs="+", default=[], help="live_threshold.json files")
     parser.add_argument("--young", type=float, default=1e6, help="the twin's Young's modulus [Pa]")
     parser.add_argument("--poisson", type=float, default=0.3, help="the twin's Poisson's ratio")
+    parser.add_argument("--release", type=float, help="let the gate go over this long [s] (default: at once), in the "
+                        "twins and the --threshold runs taken")
     parser.add_argument("--end", type=float, default=1.0, help="the twin's end [s]")
     parser.add_argument("--average-from", type=float, default=0.6, help="stresses averaged from this time [s]")
     parser.add_argument("--build", type=Path, default=environment.build_dir())
@@ -190,7 +194,7 @@ def main():
     if min(args.ratios) < 1:
         parser.error(f"--ratios: expected H0/h >= 1, got {min(args.ratios)}")
     try:
-        runs = threshold_rows(args.threshold)
+        runs = threshold_rows(args.threshold, args.release)
     except ValueError as error:
         parser.error(f"--threshold {error}")
     build = args.build.resolve()
@@ -198,7 +202,7 @@ def main():
 
     def twin(height, width, h, floor_friction):
         return measure_twin(build, args.out, height, width, h, floor_friction, args.young, args.poisson, args.end,
-                            args.average_from, args.threads)
+                            args.average_from, args.threads, args.release)
 
     refinement = []
     if args.column:
@@ -226,6 +230,7 @@ def main():
                    else own[load][side] / per_height[load] for side in ("highest_standing", "lowest_falling")]
             for load in LOADS}
     result = {"young": args.young, "poisson": args.poisson, "end": args.end, "average_from": args.average_from,
+              "release": args.release,
               "column": args.column, "floor_friction": args.floor_friction, "refinement": refinement,
               "runs": [{k: r.get(k) for k in ("source", "height", "width", "cell_size", "floor_friction", "stands", "front",
                                               "twin", *LOADS)}
@@ -252,8 +257,10 @@ def load_text(load):
 
 
 def report(result):
+    release = result.get("release")
     lines = [f"Elastic twins (E = {result['young']:g} Pa, ν = {result['poisson']:g}), settled stresses averaged from "
-             f"{result['average_from']:g} s to {result['end']:g} s; peaks after the gate's removal.", ""]
+             f"{result['average_from']:g} s to {result['end']:g} s; peaks after the gate's "
+             + ("removal." if release is None else f"release began (let go of over {release:g} s)."), ""]
     if result["refinement"]:
         height, width = result["column"]
         lines += [f"Column H0 = {height:g} m, L0 = {width:g} m, floor friction {floor_name(result['floor_friction'])} "

@@ -60,40 +60,48 @@ MIN_WATCH = 0.3  # [s] after the gate, at least
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 
-def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, floor_friction=None):
+def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, floor_friction=None, release=None):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
     `h`, `points_per_cell` points (cells) per grid cell and direction, with room for a runout of three
-    times the larger of the two and a floor under all of it, the gate's removal time), regularized over
-    `nonlocal_length` unless it is None, on a floor of Coulomb friction `floor_friction` (None: the
-    scene's). The grid's lines pass through the column's base and back wall, so that its points sit
-    whole cells' halves off them."""
+    times the larger of the two and a floor under all of it, the times the gate starts and ends letting
+    go), regularized over `nonlocal_length` unless it is None, on a floor of Coulomb friction
+    `floor_friction` (None: the scene's). The gate is removed at once at the scene's time, or with
+    `release` [s] let go of over that long from it (its traction on the face falling linearly to zero,
+    the obstacles' "release"). The grid's lines pass through the column's base and back wall, so that
+    its points sit whole cells' halves off them."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
     (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
     face = x0 + width
     origin = [x0 - math.ceil(x0 / h - 1e-9) * h, y0 - math.ceil(y0 / h - 1e-9) * h]
     cells = [math.ceil((face + 3 * max(width, height) - origin[0]) / h), math.ceil((y0 + 1.5 * height - origin[1]) / h)]
+    gate = {**scene["obstacles"][gates[0]], "line": [[face, y0], [face, y0 + 1.5 * height]]}
+    start = gate["remove_at"]
+    if release is not None:
+        del gate["remove_at"]
+        gate["release"] = {"start": start, "end": start + release}
     return {**scenes.regularization_settings(nonlocal_length)[0],
             "/grid/origin": origin, "/grid/cell_size": h, "/grid/cells": cells,
             "/regions/0/rectangle/max": [face, y0 + height], "/regions/0/points_per_cell": points_per_cell,
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
-            f"/obstacles/{gates[0]}/line": [[face, y0], [face, y0 + 1.5 * height]],
+            f"/obstacles/{gates[0]}": gate,
             **({} if floor_friction is None else {f"/obstacles/{floor}/friction": floor_friction}),
-            "/tracked_points": []}, scene["obstacles"][gates[0]]["remove_at"]
+            "/tracked_points": []}, start, start + (release or 0)
 
 
 def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_cell, floor_friction, transfer, watch,
-               threads):
+               threads, release=None):
     """One live column of height `height` [m]; returns its row of the table."""
-    settings, gate = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length, points_per_cell,
-                                     floor_friction)
-    end = gate + max(MIN_WATCH, watch * math.sqrt(height / G))
+    settings, gate, let_go = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length,
+                                             points_per_cell, floor_friction, release)
+    end = let_go + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
     transfer_setting, transfer_suffix = scenes.transfer_settings(transfer)
     settings.update(transfer_setting)
     name = (f"h{height:g}_l{width:g}_dx{h:g}" + scenes.regularization_settings(nonlocal_length)[1]
             + (f"_ppc{points_per_cell}" if points_per_cell != 1 else "")
-            + ("" if floor_friction is None else f"_floor{floor_friction:g}") + transfer_suffix)
+            + ("" if floor_friction is None else f"_floor{floor_friction:g}") + transfer_suffix
+            + ("" if release is None else f"_release{release:g}"))
     scene_file = out / "scenes" / f"{name}.json"
     scene_file.parent.mkdir(parents=True, exist_ok=True)
     if not (out / "runs" / name / "study_run.json").exists():  # a finished run keeps the scene it ran
@@ -106,7 +114,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
     front = float(series["front"][-1] - series["front"][at_gate])
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
            "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "floor_friction": floor_friction,
-           "transfer": transfer, "end": float(series["t"][-1]),
+           "transfer": transfer, "release": release, "end": float(series["t"][-1]),
            "planned_end": end, "front": front / width, "runout_m": float(flow.runout(series)[-1]),
            "top_drop": float((first[:, 1].max() - last[:, 1].max()) / height),
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
@@ -140,6 +148,7 @@ def resolution(row):
     label = f"{regularization(row)}, H0/h = {round(row['height'] / row['cell_size'])}"
     label += f", {points_per_cell(row)} points per cell" if points_per_cell(row) != 1 else ""
     label += f", floor friction {row['floor_friction']:g}" if row.get("floor_friction") is not None else ""
+    label += f", gate let go of over {row['release']:g} s" if row.get("release") is not None else ""
     return label + (f", transfer {row['transfer']}" if row.get("transfer") else "")
 
 
@@ -242,6 +251,8 @@ def main():
     parser.add_argument("--transfer", type=scenes.transfer_name, help="apic, pic, RATE or apic_flip:RATE (default: the scene's, APIC-FLIP at "
                         "5 PIC per second)")
     parser.add_argument("--watch", type=float, default=4.0, help="watched time after the gate, in √(H0/g)")
+    parser.add_argument("--release", type=float, help="let the gate go over this long [s] instead of removing it at "
+                        "once: its traction on the face falls linearly to zero (default: at once)")
     parser.add_argument("--floor-friction", type=scenes.friction_coefficient,
                         help="the floor's Coulomb friction (default: the scene's, 0.5)")
     scenes.add_points_per_cell_option(parser, 1,
@@ -260,7 +271,7 @@ def main():
     for height in args.heights:
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
                          args.nonlocal_length, args.points_per_cell, args.floor_friction, args.transfer, args.watch,
-                         args.threads)
+                         args.threads, args.release)
         print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)
