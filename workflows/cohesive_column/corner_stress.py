@@ -8,8 +8,8 @@ sharper, so the corners' stress peaks after it grow with refinement too. A britt
 where its stress first reaches its strength, then fails at a lower column on a finer grid.
 
 This script measures both on the live columns' elastic twins: live_threshold.py's scene (back wall,
-floor, gate removed at 0.08 s, one point per grid cell) with an elastic law in place of the cells,
-run to --end. Of each twin it reports, at the points nearest the toe and the heel, the in-plane
+floor, gate removed at 0.08 s, or with --release T let go of over T seconds from then, one point
+per grid cell) with an elastic law in place of the cells, run to --end. Of each twin it reports, at the points nearest the toe and the heel, the in-plane
 maximum shear stress 2τ_max = √((σ_xx − σ_yy)² + 4σ_xy²) settled (averaged from --average-from, after
 the transfer's blend has damped the ringing) and its peak after the gate (tracked every 0.5 ms), and
 the toe's largest principal stress σ_1, each over ρ g H0, and the bottom row's mean σ_yy against the

@@ -12,7 +12,10 @@ that runs at several h and one ℓ show whether the threshold converges once the
 internal length; runs without it are local. --floor-friction μ sets the floor's Coulomb friction
 (the scene's 0.5 by default): where a face meets a floor that holds it, the toe carries a stress
 concentration that a finer grid resolves further (corner_stress.py); on a frictionless floor the
-settled toe does not, though the gate's release still peaks at the corners.
+settled toe does not, though the gate's release still peaks at the corners. --release T lets the gate
+go over T seconds instead of at once (the obstacle's "release": its traction on the face falls
+linearly to zero), so that the face unloads quasi-statically and no unloading wave peaks at the
+corners (corner_stress.py --release).
 
 The predictions come from the cell alone, each the highest vertical cut that stands in limit analysis
 (Chen's log-spiral, γ H_c / c = 3.83 tan(45° + φ/2)), run on the same --cell:
@@ -24,7 +27,8 @@ The predictions come from the cell alone, each the highest vertical cut that sta
   for a Mohr–Coulomb material fixes H_c = 1.915 q_u / (ρ g) whatever its c and φ.
 
 A run stands when its front (farthest point) has moved less than STANDING × L0 between the gate's
-removal and the end, the gate's time plus WATCH √(H0/g) (at least MIN_WATCH s); a run that stopped
+removal (the start of its release) and the end, the time the gate is gone plus WATCH √(H0/g) (at least
+MIN_WATCH s); a run that stopped
 before the end (its table row says why) has fallen if its front had moved that far, and gives no
 verdict otherwise.
 
@@ -32,7 +36,7 @@ verdict otherwise.
                                      [--heights 0.05 0.1 0.15 0.2]
                                      [--width 0.15] [--cell-size 0.0125] [--nonlocal-length ℓ]
                                      [--points-per-cell 1] [--transfer apic|pic|RATE|apic_flip:RATE]
-                                     [--floor-friction MU]
+                                     [--floor-friction MU] [--release T]
                                      [--cell CELL.json]
                                      [--build BUILD] [--threads N] [--watch 4]
 
