@@ -73,17 +73,14 @@ Vec2 Obstacle::force(std::uint32_t id, const Touch& touch, const Vec2& v, double
   if (touch.overlap > kMaxPenetration * radius) {
     if (!letting_go) throw PenetrationError(penetration_message(touch.overlap, radius, mass, v));
     if (contact_.friction > 0) tangential_[id] = 0;
-    if (std::isnan(held_[id])) held_[id] = 0;
+    held_at_start(id, 0);
     return Vec2::Zero();
   }
   const Vec2& n = touch.normal;
   const Vec2 v_rel = v - velocity_;
   const double damping = 2 * contact_.damping_ratio * std::sqrt(mass * contact_.k_n);
   double fn = std::max(0.0, contact_.k_n * touch.overlap - damping * v_rel.dot(n));
-  if (letting_go) {
-    if (std::isnan(held_[id])) held_[id] = fn;
-    fn = std::min(fn, held_[id] * (release_.end - t) / (release_.end - release_.start));
-  }
+  if (letting_go) fn = std::min(fn, held_at_start(id, fn) * (release_.end - t) / (release_.end - release_.start));
   if (contact_.friction == 0) return fn * n;
   const Vec2 tangent(-n.y(), n.x());
   const double cap = contact_.friction * fn;

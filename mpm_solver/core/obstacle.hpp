@@ -103,7 +103,7 @@ class Obstacle {
     const std::optional<Touch> touch = touching(x, radius, t);
     if (!touch) {
       if (contact_.friction > 0) tangential_[id] = 0;
-      if (releasing(t) && std::isnan(held_[id])) held_[id] = 0;  // it was not held at the start
+      if (releasing(t)) held_at_start(id, 0);  // records that it was not held at the start
       return {Vec2::Zero(), x};
     }
     const Vec2 at = x - touch->normal * (radius - touch->overlap);
@@ -118,6 +118,11 @@ class Obstacle {
   std::optional<Touch> touching(const Vec2& x, double radius, double t) const;
   Vec2 force(std::uint32_t id, const Touch& touch, const Vec2& v, double radius, double mass, double t, double dt);
   bool releasing(double t) const { return release_.gradual() && t >= release_.start; }
+  // The normal force point `id` had when the release started: `now` on its first call after the start.
+  double held_at_start(std::uint32_t id, double now) {
+    if (std::isnan(held_[id])) held_[id] = now;
+    return held_[id];
+  }
   static constexpr double kNotHeldYet = std::numeric_limits<double>::quiet_NaN();
   std::string penetration_message(double overlap, double radius, double mass, const Vec2& v) const;
 

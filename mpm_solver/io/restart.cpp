@@ -74,6 +74,32 @@ class LawEntries : public LawStateWriter, public LawStateReader {
   std::string prefix_;
 };
 
+// One per-point history of every obstacle (tangential forces, forces held at a release's start) as an
+// obstacles × points table, `fill` past the points an obstacle keeps a history for.
+void write_obstacle_table(const h5::Object& root, const std::string& name, const Solver& solver,
+                          const std::vector<double>& (Obstacle::*history)() const, double fill) {
+  std::vector<double> table;
+  for (const Obstacle& o : solver.obstacles()) {
+    std::vector<double> row = (o.*history)();
+    row.resize(solver.points().size(), fill);
+    table.insert(table.end(), row.begin(), row.end());
+  }
+  h5::write_array(root, name, table, solver.points().size());
+}
+
+// Such a table read back, a row per obstacle; throws when its shape is not the scene's.
+std::vector<std::vector<double>> read_obstacle_table(const h5::Object& root, const std::string& name,
+                                                     const std::filesystem::path& file, std::size_t obstacles,
+                                                     std::size_t points) {
+  const std::vector<double> table = h5::read_array<double>(root, name, points);
+  if (table.size() != obstacles * points)
+    throw std::runtime_error(file.string() + ": the restart and the scene differ in obstacles or points");
+  std::vector<std::vector<double>> rows;
+  for (std::size_t o = 0; o < obstacles; ++o)
+    rows.emplace_back(table.begin() + o * points, table.begin() + (o + 1) * points);
+  return rows;
+}
+
 void write_contents(const h5::Object& root, const Solver& solver, const RunRecord& run) {
   h5::write_attribute(root, "format", std::string(kFormat));
   h5::write_attribute(root, "time", solver.time());
@@ -84,20 +110,8 @@ void write_contents(const h5::Object& root, const Solver& solver, const RunRecor
   std::vector<double> rows;
   for (const MaterialPoint& mp : solver.points()) append_row(rows, mp);
   h5::write_array(root, "points", rows, kColumns);
-  std::vector<double> tangential;
-  for (const Obstacle& o : solver.obstacles()) {
-    std::vector<double> history = o.tangential_history();
-    history.resize(solver.points().size(), 0.0);
-    tangential.insert(tangential.end(), history.begin(), history.end());
-  }
-  h5::write_array(root, "obstacle_tangential", tangential, solver.points().size());
-  std::vector<double> held;
-  for (const Obstacle& o : solver.obstacles()) {
-    std::vector<double> forces = o.held_forces();
-    forces.resize(solver.points().size(), std::numeric_limits<double>::quiet_NaN());
-    held.insert(held.end(), forces.begin(), forces.end());
-  }
-  h5::write_array(root, "obstacle_held", held, solver.points().size());
+  write_obstacle_table(root, "obstacle_tangential", solver, &Obstacle::tangential_history, 0.0);
+  write_obstacle_table(root, "obstacle_held", solver, &Obstacle::held_forces, std::numeric_limits<double>::quiet_NaN());
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
     LawEntries entries(root, k);
     solver.law(k).save_state(entries);
@@ -138,21 +152,15 @@ RunRecord read_restart(const std::filesystem::path& file, Solver& solver) {
       throw std::runtime_error(file.string() + ": point " + std::to_string(points.back().id) +
                                " refers to a law the scene does not have");
   }
-  const std::vector<double> tangential = h5::read_array<double>(root, "obstacle_tangential", points.size());
-  if (tangential.size() != solver.obstacles().size() * points.size())
-    throw std::runtime_error(file.string() + ": the restart and the scene differ in obstacles or points");
-  for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
-    solver.obstacle(o).set_tangential_history(
-        std::vector<double>(tangential.begin() + o * points.size(), tangential.begin() + (o + 1) * points.size()));
+  const std::size_t obstacles = solver.obstacles().size();
+  std::vector<std::vector<double>> tangential =
+      read_obstacle_table(root, "obstacle_tangential", file, obstacles, points.size());
+  for (std::size_t o = 0; o < obstacles; ++o) solver.obstacle(o).set_tangential_history(std::move(tangential[o]));
   // Restarts written before gates could be let go of gradually hold none.
   if (h5::has_child(root, "obstacle_held")) {
-    const std::vector<double> held = h5::read_array<double>(root, "obstacle_held", points.size());
-    if (held.size() != tangential.size())
-      throw std::runtime_error(file.string() + ": the restart and the scene differ in obstacles or points");
-    for (std::size_t o = 0; o < solver.obstacles().size(); ++o)
-      if (solver.obstacle(o).release().gradual())
-        solver.obstacle(o).set_held_forces(
-            std::vector<double>(held.begin() + o * points.size(), held.begin() + (o + 1) * points.size()));
+    std::vector<std::vector<double>> held = read_obstacle_table(root, "obstacle_held", file, obstacles, points.size());
+    for (std::size_t o = 0; o < obstacles; ++o)
+      if (solver.obstacle(o).release().gradual()) solver.obstacle(o).set_held_forces(std::move(held[o]));
   }
   for (std::size_t k = 0; k < solver.law_count(); ++k) {
     LawEntries entries(root, k);

@@ -9,10 +9,11 @@ where its stress first reaches its strength, then fails at a lower column on a f
 
 This script measures both on the live columns' elastic twins: live_threshold.py's scene (back wall,
 floor, gate removed at 0.08 s, or with --release T let go of over T seconds from then, one point
-per grid cell) with an elastic law in place of the cells, run to --end. Of each twin it reports, at the points nearest the toe and the heel, the in-plane
-maximum shear stress 2τ_max = √((σ_xx − σ_yy)² + 4σ_xy²) settled (averaged from --average-from, after
-the transfer's blend has damped the ringing) and its peak after the gate (tracked every 0.5 ms), and
-the toe's largest principal stress σ_1, each over ρ g H0, and the bottom row's mean σ_yy against the
+per grid cell) with an elastic law in place of the cells, run to --end. Of each twin it reports, at
+the points nearest the toe and the heel, the in-plane maximum shear stress
+2τ_max = √((σ_xx − σ_yy)² + 4σ_xy²) settled (averaged from --average-from, after the transfer's blend
+has damped the ringing) and its peak after the gate (tracked every 0.5 ms), and the toe's largest
+principal stress σ_1, each over ρ g H0, and the bottom row's mean σ_yy against the
 weight above it (a check of the column's equilibrium).
 
 - --column H0 L0 --ratios 6 12 24 48: one column on grids of H0/h = each ratio; self-similar under
