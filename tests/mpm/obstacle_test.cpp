@@ -55,8 +55,9 @@ void sweep(Obstacle& obstacle, const Vec2& shift, double t, const auto& distance
       const double magnitude = applied.force.norm();
       EXPECT_NEAR(magnitude, *expected, 1e-9 * kStiffness) << "centre " << local.transpose() << ", distance " << d;
       // A touching disk is pushed where it meets the shape's surface.
-      if (magnitude > 0)
+      if (magnitude > 0) {
         EXPECT_NEAR(distance_and_inside(applied.at - shift).first, 0.0, 1e-9) << "centre " << local.transpose();
+      }
       ++(magnitude > 0 ? touching : clear);
     }
   // The sweep reaches every case.
