@@ -70,6 +70,15 @@ class LiveThresholdTest(WorkflowTest):
         short, predicted = self.threshold(self.CELL, prediction, "--heights", f"{height:g}")
         self.assertEqual(predicted, "may stand")
         self.assertTrue(short["stands"], short)
+        # The result carries the cell's strength, and without heights the study runs nothing and reports
+        # its runs again against the prediction given.
+        measured = json.loads(prediction.read_text())
+        result = json.loads((self.out / "live" / "live_threshold.json").read_text())
+        self.assertEqual(result["unconfined"], {"q_u": measured["q_u"], "density": measured["density"]})
+        table = (self.out / "live" / "live_threshold.md").read_text()
+        run(["/usr/bin/python3", WORKFLOWS / "cohesive_column" / "live_threshold.py", self.out / "live",
+             "--unconfined", prediction, "--build", BUILD, "--cell", self.CELL, "--heights"])
+        self.assertEqual((self.out / "live" / "live_threshold.md").read_text(), table)
 
         weak = json.loads(self.CELL.read_text())
         for strength in ("tensile_strength", "shear_strength"):
@@ -237,6 +246,13 @@ class CornerStressTest(WorkflowTest):
         self.assertIn(f"--threshold {self.out / 'not_runs.json'}: expected a live_threshold.json with a list 'runs'",
                       str(refused.exception))
         self.assertFalse((self.out / "corner").exists())
+
+    def test_a_runs_peak_is_weighed_against_its_own_cells_strength(self):
+        # A 0.3 m column whose corners peak at 2τ_max = 0.9 ρ g H0, of a cell of q_u = ρ g × 0.27 m: at its
+        # strength exactly. A file from before the strength was recorded gives no ratio.
+        run = {"peak_load": 0.9 * 0.3, "strength": {"q_u": 540 * corner_stress.G * 0.27, "density": 540}}
+        self.assertAlmostEqual(corner_stress.peak_over_strength(run), 1.0, places=12)
+        self.assertIsNone(corner_stress.peak_over_strength({"peak_load": 0.27, "strength": None}))
 
     def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):
         rows = [{"toe_load": 0.26, "stands": True}, {"toe_load": 0.28, "stands": True},

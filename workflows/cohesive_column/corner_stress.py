@@ -23,7 +23,10 @@ weight above it (a check of the column's equilibrium).
   metres of overburden, 2τ_max/(ρ g): the toe's settled stress and the larger corner peak. Where one
   critical load separates every standing run from every falling one, that load explains the
   verdicts, and the --column table predicts the threshold at each H0/h: the heights between
-  standing_max / f and falling_min / f, f the twin's 2τ_max/(ρ g H0) there.
+  standing_max / f and falling_min / f, f the twin's 2τ_max/(ρ g H0) there. Where every file gives
+  its cell's unconfined strength (live_threshold.py --unconfined, since stop 82), the runs are also
+  ranked by the corners' peak 2τ_max over their own cell's q_u, so that cells of other packing seeds,
+  which differ in strength, are judged together.
 
   /usr/bin/python3 corner_stress.py OUT [--column 0.3 0.2 --ratios 6 12 24 48] [--floor-friction MU]
                                     [--threshold live_threshold.json ...]
@@ -144,7 +147,8 @@ def threshold_rows(files, release=None):
                 raise TypeError
         except (OSError, ValueError, KeyError, TypeError) as error:
             raise ValueError(f"{file}: expected a live_threshold.json with a list 'runs' ({error!r})") from None
-        rows += [{**r, "source": str(file)} for r in runs
+        strength = json.loads(Path(file).read_text()).get("unconfined")  # absent before stop 82
+        rows += [{**r, "source": str(file), "strength": strength} for r in runs
                  if regularization(r) == "local" and points_per_cell(r) == 1 and r.get("transfer") is None
                  and r.get("release") == release and r["stands"] is not None]
     return rows
@@ -162,11 +166,20 @@ def critical_load(rows, load):
 # The two loads a run is ranked by, in metres of overburden (2τ_max / (ρ g)): the toe's settled stress,
 # and the larger of the two corners' peaks after the gate's removal.
 LOADS = {"toe_load": "the toe's settled 2τ_max", "peak_load": "the corners' peak 2τ_max after the gate"}
+# And, where the run's file gives its cell's unconfined strength q_u and bulk density ρ, that peak over
+# q_u: cells of other packings differ in strength, and this ranks their runs together.
+STRENGTH_LOAD = {"peak_over_strength": "the corners' peak 2τ_max after the gate over the cell's q_u"}
 
 
 def loads(twin, height):
     return {"toe_load": twin["corners"]["toe"]["two_tau_max"] * height,
             "peak_load": max(c["peak_two_tau_max"] for c in twin["corners"].values()) * height}
+
+
+def peak_over_strength(run):
+    """The corners' peak 2τ_max of `run`'s twin over its cell's q_u, or None when its file has no q_u."""
+    strength = run.get("strength")
+    return None if not strength else run["peak_load"] * strength["density"] * G / strength["q_u"]
 
 
 def main():
@@ -213,13 +226,15 @@ def main():
     for r in runs:
         r["twin"] = twin(r["height"], r["width"], r["cell_size"], r.get("floor_friction"))
         r.update(loads(r["twin"], r["height"]))
+        r["peak_over_strength"] = peak_over_strength(r)
     # One critical load per floor: a frictional floor confines the toe, a frictionless one leaves the
     # base in uniaxial compression, and the cell's strength differs between the two.
     critical = {}
     for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
         group = [r for r in runs if r.get("floor_friction") == friction]
         critical[floor_name(friction)] = {}
-        for load in LOADS:
+        ranked = dict(LOADS, **(STRENGTH_LOAD if all(r["peak_over_strength"] is not None for r in group) else {}))
+        for load in ranked:
             high, low, separated = critical_load(group, load)
             critical[floor_name(friction)][load] = {"highest_standing": high, "lowest_falling": low,
                                                     "separates_every_run": separated}
@@ -233,8 +248,9 @@ def main():
     result = {"young": args.young, "poisson": args.poisson, "end": args.end, "average_from": args.average_from,
               "release": args.release,
               "column": args.column, "floor_friction": args.floor_friction, "refinement": refinement,
-              "runs": [{k: r.get(k) for k in ("source", "height", "width", "cell_size", "floor_friction", "stands", "front",
-                                              "twin", *LOADS)}
+              "runs": [{k: r.get(k) for k in ("source", "cell", "strength", "height", "width", "cell_size", "floor_friction",
+                                              "stands", "front",
+                                              "twin", *LOADS, *STRENGTH_LOAD)}
                        for r in runs],
               "critical": critical}
     (args.out / "corner_stress.json").write_text(json.dumps(result, indent=1) + "\n")
@@ -253,8 +269,14 @@ def bracket(pair):
     return f"({'–' if low is None else f'{low:.3f}'}, {'–' if high is None else f'{high:.3f}'}]"
 
 
-def load_text(load):
-    return "–" if load is None else f"{load:.4f} m"
+def load_text(load, name):
+    if load is None:
+        return "–"
+    return f"{load:.4f}" if name in STRENGTH_LOAD else f"{load:.4f} m"
+
+
+def ratio_text(ratio):
+    return "–" if ratio is None else f"{ratio:.3f}"
 
 
 def report(result):
@@ -277,18 +299,20 @@ def report(result):
                          f"{bracket(r['predicted_threshold']['toe_load'])} | {bracket(r['predicted_threshold']['peak_load'])} |")
         lines.append("")
     if result["runs"]:
-        lines += ["| H0 [m] | L0 [m] | h [m] | H0/h | floor friction | live outcome | front / L0 | toe load, settled [m] "
-                  "| peak load [m] |",
-                  "|---|---|---|---|---|---|---|---|---|"]
-        for r in sorted(result["runs"], key=lambda r: (r["floor_friction"] is not None, r["peak_load"])):
+        lines += ["| H0 [m] | L0 [m] | h [m] | H0/h | floor friction | cell | live outcome | front / L0 "
+                  "| toe load, settled [m] | peak load [m] | peak 2τ_max / q_u |",
+                  "|---|---|---|---|---|---|---|---|---|---|---|"]
+        for r in sorted(result["runs"], key=lambda r: (r["floor_friction"] is not None, r["peak_over_strength"] or 0,
+                                                       r["peak_load"])):
             lines.append(f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {r['height'] / r['cell_size']:.0f} | "
-                         f"{floor_name(r['floor_friction'])} | {'stands' if r['stands'] else 'falls'} | {r['front']:.3f} | "
-                         f"{r['toe_load']:.4f} | {r['peak_load']:.4f} |")
+                         f"{floor_name(r['floor_friction'])} | {Path(r['cell']).name} | "
+                         f"{'stands' if r['stands'] else 'falls'} | {r['front']:.3f} | "
+                         f"{r['toe_load']:.4f} | {r['peak_load']:.4f} | {ratio_text(r['peak_over_strength'])} |")
         lines.append("")
         for floor, per_load in result["critical"].items():
             for load, c in per_load.items():
-                lines.append(f"Floor friction {floor}, {LOADS[load]}: highest standing {load_text(c['highest_standing'])}, "
-                             f"lowest falling {load_text(c['lowest_falling'])}: "
+                lines.append(f"Floor friction {floor}, {dict(LOADS, **STRENGTH_LOAD)[load]}: highest standing "
+                             f"{load_text(c['highest_standing'], load)}, lowest falling {load_text(c['lowest_falling'], load)}: "
                              + ("one critical load separates every standing run from every falling one."
                                 if c["separates_every_run"] else "no single critical load separates the verdicts."))
     return "\n".join(lines) + "\n"

@@ -42,8 +42,10 @@ verdict otherwise.
 
 Finished runs in OUT/runs/ are kept (an interrupted study resumes), and the outputs cover every run of
 the cell there, so that heights run with other widths, grids and lengths ℓ join one table (the
-thresholds bracketed per ℓ, H0/h and points per cell). Writes OUT/live_threshold.md,
-OUT/live_threshold.json and OUT/live_threshold.png (front displacement against H0, with each H_c).
+thresholds bracketed per ℓ, H0/h and points per cell); `--heights` with no height runs nothing and
+reports those runs again, for instance against a strength measured again. Writes OUT/live_threshold.md,
+OUT/live_threshold.json (with the cell's q_u and bulk density under "unconfined", when given) and
+OUT/live_threshold.png (front displacement against H0, with each H_c).
 """
 import argparse
 import json
@@ -245,7 +247,8 @@ def main():
     parser.add_argument("--strength", type=Path, help="strength.json of cell_response/strength.py on the same cell")
     parser.add_argument("--unconfined", type=Path,
                         help="unconfined.json of cell_response/unconfined.py on the same cell")
-    parser.add_argument("--heights", type=float, nargs="+", default=[0.05, 0.1, 0.15, 0.2], help="H0 [m]")
+    parser.add_argument("--heights", type=float, nargs="*", default=[0.05, 0.1, 0.15, 0.2],
+                        help="H0 [m]; none: only report the runs already in OUT, against the predictions given")
     parser.add_argument("--width", type=float, default=0.15, help="L0 [m]")
     parser.add_argument("--cell-size", type=float, default=0.0125, help="grid cell size h [m]")
     scenes.add_nonlocal_length_option(parser, "regularize over this length ℓ [m] (default: local)")
@@ -285,8 +288,11 @@ def main():
     verdicts = verdicts_of(rows, critical)
     text = report(rows, critical, verdicts, args.cell)
     (args.out / "live_threshold.md").write_text(text)
+    # The cell's strength and bulk density, so that runs of cells of other strengths (other packing seeds)
+    # can be compared by their stress over their own q_u (corner_stress.py --threshold).
+    strength = {"q_u": unconfined["q_u"], "density": unconfined["density"]} if unconfined else None
     (args.out / "live_threshold.json").write_text(json.dumps(
-        {"cell": str(args.cell), "critical_height": critical,
+        {"cell": str(args.cell), "critical_height": critical, "unconfined": strength,
          "standing": STANDING, "runs": rows, "verdicts": verdicts}, indent=2))
     plot(rows, critical, args.out / "live_threshold.png")
     print(text, end="")
