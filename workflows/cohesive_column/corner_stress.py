@@ -142,12 +142,13 @@ def threshold_rows(files, release=None):
     rows = []
     for file in files:
         try:
-            runs = json.loads(Path(file).read_text())["runs"]
+            result = json.loads(Path(file).read_text())
+            runs = result["runs"]
             if not isinstance(runs, list):
                 raise TypeError
         except (OSError, ValueError, KeyError, TypeError) as error:
             raise ValueError(f"{file}: expected a live_threshold.json with a list 'runs' ({error!r})") from None
-        strength = json.loads(Path(file).read_text()).get("unconfined")  # absent before stop 82
+        strength = result.get("unconfined")  # absent before stop 82
         rows += [{**r, "source": str(file), "strength": strength} for r in runs
                  if regularization(r) == "local" and points_per_cell(r) == 1 and r.get("transfer") is None
                  and r.get("release") == release and r["stands"] is not None]
@@ -168,7 +169,7 @@ def critical_load(rows, load):
 LOADS = {"toe_load": "the toe's settled 2τ_max", "peak_load": "the corners' peak 2τ_max after the gate"}
 # And, where the run's file gives its cell's unconfined strength q_u and bulk density ρ, that peak over
 # q_u: cells of other packings differ in strength, and this ranks their runs together.
-STRENGTH_LOAD = {"peak_over_strength": "the corners' peak 2τ_max after the gate over the cell's q_u"}
+STRENGTH_RATIO = {"peak_over_strength": "the corners' peak 2τ_max after the gate over the cell's q_u"}
 
 
 def loads(twin, height):
@@ -233,7 +234,7 @@ def main():
     for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
         group = [r for r in runs if r.get("floor_friction") == friction]
         critical[floor_name(friction)] = {}
-        ranked = dict(LOADS, **(STRENGTH_LOAD if all(r["peak_over_strength"] is not None for r in group) else {}))
+        ranked = dict(LOADS, **(STRENGTH_RATIO if all(r["peak_over_strength"] is not None for r in group) else {}))
         for load in ranked:
             high, low, separated = critical_load(group, load)
             critical[floor_name(friction)][load] = {"highest_standing": high, "lowest_falling": low,
@@ -250,7 +251,7 @@ def main():
               "column": args.column, "floor_friction": args.floor_friction, "refinement": refinement,
               "runs": [{k: r.get(k) for k in ("source", "cell", "strength", "height", "width", "cell_size", "floor_friction",
                                               "stands", "front",
-                                              "twin", *LOADS, *STRENGTH_LOAD)}
+                                              "twin", *LOADS, *STRENGTH_RATIO)}
                        for r in runs],
               "critical": critical}
     (args.out / "corner_stress.json").write_text(json.dumps(result, indent=1) + "\n")
@@ -272,7 +273,7 @@ def bracket(pair):
 def load_text(load, name):
     if load is None:
         return "–"
-    return f"{load:.4f}" if name in STRENGTH_LOAD else f"{load:.4f} m"
+    return f"{load:.4f}" if name in STRENGTH_RATIO else f"{load:.4f} m"
 
 
 def ratio_text(ratio):
@@ -311,7 +312,7 @@ def report(result):
         lines.append("")
         for floor, per_load in result["critical"].items():
             for load, c in per_load.items():
-                lines.append(f"Floor friction {floor}, {dict(LOADS, **STRENGTH_LOAD)[load]}: highest standing "
+                lines.append(f"Floor friction {floor}, {dict(LOADS, **STRENGTH_RATIO)[load]}: highest standing "
                              f"{load_text(c['highest_standing'], load)}, lowest falling {load_text(c['lowest_falling'], load)}: "
                              + ("one critical load separates every standing run from every falling one."
                                 if c["separates_every_run"] else "no single critical load separates the verdicts."))
