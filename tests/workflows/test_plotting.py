@@ -6,8 +6,8 @@ import json
 
 import numpy as np
 
-from workflow_test_util import BUILD, TINY_SCENE, WorkflowTest, run_rigid_translation
-from plotting import flow, fluctuations, png, run_compare, spreading, tables, vtu
+from workflow_test_util import BUILD, TINY_SCENE, WorkflowTest, run, run_rigid_translation
+from plotting import flow, fluctuations, png, resumed_run, run_compare, spreading, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
 
@@ -49,6 +49,41 @@ class StudyRunTest(WorkflowTest):
         with self.assertRaisesRegex(RuntimeError, r"bad_scene\.json: mpm_solver stopped before its first output: .*finish"):
             run_compare.timed_scene_run(BUILD, bad, self.out / "run", 1)
         self.assertFalse((self.out / "run" / "study_run.json").exists())
+
+
+    def test_a_stopped_run_goes_on_from_its_checkpoint_and_reads_as_the_run_never_stopped(self):
+        # An elastic block thrown onto a frictional floor under gravity; the stopped run is the same
+        # scene stopped at 0.02 s (mpm_solver writes its checkpoint when it stops), with no study record.
+        scene = {"grid": {"cell_size": 0.1, "cells": [10, 6]},
+                 "time": {"end": 0.04, "output_interval": 0.01, "series_interval": 0.005},
+                 "gravity": {"g": [0, -9.81]}, "effects": {"gravity": True, "boundary_friction": True},
+                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
+                              "velocity": [0.5, 0.0]}],
+                 "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5,
+                                "damping": 0.5}]}
+        file = self.out / "scene.json"
+        file.write_text(json.dumps(scene))
+        whole, stopped = self.out / "whole", self.out / "stopped"
+        self.assertNotIn("resumed_from", run_compare.timed_scene_run(BUILD, file, whole, 1))
+        run([BUILD / "mpm_solver" / "mpm_solver", file, "--out", stopped, "--threads", "1", "--set", "/time/end=0.02"])
+        self.assertEqual(resumed_run.newest_checkpoint(stopped), stopped / "restart.h5")
+
+        result = run_compare.timed_scene_run(BUILD, file, stopped, 1)
+        self.assertEqual(result["resumed_from"], "restart.h5")
+        self.assertEqual(resumed_run.segments(stopped), [stopped / "resumed_1"])
+        self.assertEqual((stopped / "series.csv").read_text(), (whole / "series.csv").read_text())
+        ours, theirs = vtu.read_run(stopped), vtu.read_run(whole)
+        self.assertEqual([s.time for s in ours], [0, 0.01, 0.02, 0.03, 0.04])
+        self.assertEqual([s.time for s in ours], [s.time for s in theirs])
+        for a, b in zip(ours, theirs):
+            np.testing.assert_array_equal(a.xy, b.xy)
+            np.testing.assert_array_equal(a.fields["stress"], b.fields["stress"])
+        self.assertEqual(json.loads((stopped / "summary.json").read_text())["resumed_segments"], ["resumed_1"])
+        joined = (stopped / "points.pvd").read_text()
+        resumed_run.join(stopped)
+        self.assertEqual((stopped / "points.pvd").read_text(), joined, "joining again changes nothing")
+        self.assertEqual(run_compare.timed_scene_run(BUILD, file, stopped, 1), result, "a finished run is kept")
 
 
 class FlowTest(WorkflowTest):

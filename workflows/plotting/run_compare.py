@@ -13,24 +13,32 @@ from pathlib import Path
 
 import numpy as np
 
-from plotting import flow, tables, vtu
+from plotting import flow, resumed_run, tables, vtu
 from plotting.timing import timed_run
 
 
 def timed_scene_run(build, scene_file, folder, threads):
     """Runs mpm_solver on `scene_file` into `folder` unless a finished run is there; returns
-    {wall_s, cpu_s, failed}. A run that stops (e.g. a point thrown out of the grid) is a result too:
+    {wall_s, cpu_s, failed}. A run that was stopped before it finished goes on from its last
+    checkpoint (plotting/resumed_run.py); then cpu_s and wall_s are of its last segment only, and
+    `resumed_from` names the checkpoint. A run that stops (e.g. a point thrown out of the grid) is a result too:
     its error message is kept and its outputs up to the stop are compared. A run that stops before
     its first output (a scene mpm_solver rejects) has nothing to compare: RuntimeError with its error,
     and nothing is recorded, so that the study runs it again once the scene is mended."""
     folder = Path(folder)
     if (folder / "study_run.json").exists():
         return json.loads((folder / "study_run.json").read_text())
-    wall, cpu, error = timed_run([Path(build) / "mpm_solver" / "mpm_solver", scene_file, "--out", folder,
-                                  "--threads", threads])
-    if error and not (folder / "series.csv").exists():
+    checkpoint = resumed_run.newest_checkpoint(folder)
+    out = resumed_run.next_segment(folder) if checkpoint else folder
+    wall, cpu, error = timed_run([Path(build) / "mpm_solver" / "mpm_solver", scene_file, "--out", out,
+                                  "--threads", threads, *(["--restart", checkpoint] if checkpoint else [])])
+    if error and not (out / "series.csv").exists():
         raise RuntimeError(f"{scene_file}: mpm_solver stopped before its first output: {error}")
     result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
+    if checkpoint:
+        resumed_run.join(folder)
+        # The stopped segments' CPU died with the process that timed them.
+        result["resumed_from"] = str(checkpoint.relative_to(folder))
     (folder / "study_run.json").write_text(json.dumps(result) + "\n")
     return result
 
