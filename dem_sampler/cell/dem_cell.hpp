@@ -87,7 +87,7 @@ class DemCell {
   // Requires the bonds effect. Returns the number of bonds.
   std::int64_t create_bonds(double bonding_distance);
 
-  // Cundall local damping α ∈ [0,1) of the fluctuations, for quasi-static relaxation or driving (0 = off).
+  // Cundall local damping α ∈ [0,1) for quasi-static relaxation (preparation only; 0 = off).
   void set_local_damping(double alpha) { local_damping_ = alpha; }
   // Replaces the friction coefficient (preparation lowers it to control density).
   void set_friction(double mu);

@@ -10,7 +10,7 @@
 namespace grainbank::dem {
 namespace {
 
-// Cundall local damping (quasi-static relaxation or driving): each component of a force or torque loses α of its
+// Cundall local damping (preparation only): each component of a force or torque loses α of its
 // magnitude against the motion, so quasi-static relaxation converges faster.
 double damped(double f, double v, double alpha) {
   return f - alpha * std::abs(f) * (v > 0 ? 1.0 : (v < 0 ? -1.0 : 0.0));

@@ -25,8 +25,6 @@ StateWarmStart::StateWarmStart(std::vector<StateSnapshot> snapshots, const surro
   if (settings_.catch_up_legs < 1) throw std::invalid_argument("fallback.catch_up_legs: expected at least 1");
   if (!(settings_.catch_up_strain_per_step >= 0))
     throw std::invalid_argument("fallback.catch_up_strain_per_step: expected a strain ≥ 0 (0: no limit)");
-  if (!(settings_.catch_up_damping >= 0 && settings_.catch_up_damping < 1))
-    throw std::invalid_argument("fallback.catch_up_damping: expected a number in [0, 1) (0: undamped)");
   if (settings_.max_servo_steps < 1) throw std::invalid_argument("fallback.max_servo_steps: expected at least 1");
   surrogate::check(constants_);
   keys_.reserve(snapshots_.size());
@@ -98,7 +96,6 @@ void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncre
   double steps = static_cast<double>(settings_.catch_up_steps);
   if (settings_.catch_up_strain_per_step > 0) steps = std::max(steps, strain_path / settings_.catch_up_strain_per_step);
   const double speed_up = std::max(1.0, elapsed / (steps * dt));
-  cell.set_local_damping(settings_.catch_up_damping);
   const auto drive = [&](const KinematicIncrement& increment) {
     model.advance(cell, increment, counters);
     counters.warm_start_catch_up_steps += static_cast<std::uint64_t>(dem::substep_count(increment.dt, dt, q.q_n));
@@ -123,7 +120,6 @@ void StateWarmStart::catch_up(dem::DemCell& cell, std::span<const KinematicIncre
     }
     drive(whole);
   }
-  cell.set_local_damping(0);  // a live cell's fluctuations are its inertia (seed, inertia at both scales)
 }
 
 dem::StressServoResult StateWarmStart::servo(dem::DemCell& cell, const surrogate::PointState& target,

@@ -44,12 +44,6 @@
 //   motion at its own pace leaves intact (stop 57). With samples of one record it keeps a flowing
 //   column's damage and stress field near live's over 0.3 s, at about a third more CPU
 //   (docs/surrogate.md, "Stop 69").
-// - With catch_up_damping = α > 0, the catch-up's DEM steps damp the spheres' fluctuating motion by
-//   Cundall's local damping (each component of a force or torque loses α of its magnitude against
-//   the motion, as in preparation), and the cell is undamped again when it is handed over. Why: a
-//   catch-up is faster than the point moved, and the agitation a fast drive leaves breaks bonds and
-//   sends the point live (stop 70); damping the fluctuations, not the affine motion, lets the
-//   packing follow a fast drive nearer its quasi-static path.
 // - A point without a cell of its own starts, with first_cell "template", from the template caught
 //   up on the point's whole motion (every point starts in the template's state), as if the template
 //   had been its own cell from the start: no servo, and no stress the surrogate integrated enters
@@ -87,7 +81,6 @@ struct StateWarmStartSettings {
   long catch_up_steps = 200;            // DEM steps of a catch-up at most (above)
   long catch_up_legs = 40;              // legs of a catch-up's path at most (above)
   double catch_up_strain_per_step = 0;  // > 0: a catch-up's strain per DEM step at most (above); 0: no limit
-  double catch_up_damping = 0;          // Cundall local damping α ∈ [0, 1) of the spheres' fluctuations in a catch-up (above)
   // A point's first cell: the template caught up on its motion, or the nearest snapshot, servoed.
   enum class FirstCell { template_caught_up, nearest_snapshot };
   FirstCell first_cell = FirstCell::template_caught_up;

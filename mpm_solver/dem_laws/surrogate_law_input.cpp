@@ -26,7 +26,7 @@ using common::Range;
 // "fallback":
 // {"return_after", "warm_start": "state" | "replay", "stress_tolerance" [Pa, default: tolerance],
 // "max_servo_steps", "servo_inertial_number", "catch_up_steps", "catch_up_legs",
-// "catch_up_strain_per_step", "catch_up_damping", "first_cell":
+// "catch_up_strain_per_step", "first_cell":
 // "template" | "snapshot", "unconverged": "keep" | "replay"}, and the "substepping", "q_h" and
 // "retiling" of every DEM-backed law.
 constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", "cell",    "tolerance",
@@ -34,8 +34,8 @@ constexpr std::string_view kKeys[] = {"name", "law", "library",     "template", 
                                       "substepping", "q_h", "retiling", "fallback"};
 constexpr std::string_view kFallbackKeys[] = {"return_after",   "warm_start",    "stress_tolerance",
                                               "max_servo_steps", "servo_inertial_number", "catch_up_steps",
-                                              "catch_up_legs",  "catch_up_strain_per_step", "catch_up_damping",
-                                              "first_cell",     "unconverged"};
+                                              "catch_up_legs",  "catch_up_strain_per_step", "first_cell",
+                                              "unconverged"};
 constexpr KeyBlock kBlocks[] = {{"fallback", kFallbackKeys}};
 
 std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext& scene) {
@@ -65,8 +65,6 @@ std::unique_ptr<ConstitutiveLaw> read(const JsonNode& material, const LawContext
     w.catch_up_legs = fallback->integer_or("catch_up_legs", w.catch_up_legs, 1, 1000000000);
     w.catch_up_strain_per_step =
         fallback->number_or("catch_up_strain_per_step", w.catch_up_strain_per_step, Range::at_least(0));
-    w.catch_up_damping =
-        fallback->number_or("catch_up_damping", w.catch_up_damping, Range::between(0, 1, false, true));
     if (const auto first = fallback->find("first_cell")) {
       const std::string name = first->string();
       if (name != "template" && name != "snapshot") first->fail("expected \"template\" or \"snapshot\"");

@@ -178,16 +178,12 @@ TEST(SurrogateLaw, ASceneNamesTheLawAndItsKeysAreChecked) {
   const std::pair<const char*, const char*> refused[] = {{R"(, "catch_up_steps": 0)", "/fallback/catch_up_steps"},
                                                           {R"(, "catch_up_legs": 0)", "/fallback/catch_up_legs"},
                                                           {R"(, "catch_up_strain_per_step": -1e-5)", "/fallback/catch_up_strain_per_step"},
-                                                          {R"(, "catch_up_damping": 1)", "/fallback/catch_up_damping"},
-                                                          {R"(, "catch_up_damping": -0.1)", "/fallback/catch_up_damping"},
                                                           {R"(, "first_cell": "nearest")", "/fallback/first_cell"}};
-  const io::Scene limited = io::load_scene(write_scene("", R"(, "catch_up_strain_per_step": 1e-5, "catch_up_damping": 0.3)"));
+  const io::Scene limited = io::load_scene(write_scene("", R"(, "catch_up_strain_per_step": 1e-5)"));
   const StateWarmStart* limited_start = dynamic_cast<const SurrogateLaw&>(limited.solver->law(0)).state_warm_start();
   ASSERT_NE(limited_start, nullptr);
   EXPECT_EQ(limited_start->settings().catch_up_strain_per_step, 1e-5);
-  EXPECT_EQ(limited_start->settings().catch_up_damping, 0.3);
   EXPECT_EQ(law.state_warm_start()->settings().catch_up_strain_per_step, 0.0) << "no limit by default";
-  EXPECT_EQ(law.state_warm_start()->settings().catch_up_damping, 0.0) << "undamped by default";
   for (const auto& [fallback, named] : refused) {
     try {
       io::load_scene(write_scene("", fallback));
