@@ -50,7 +50,6 @@ class StudyRunTest(WorkflowTest):
             run_compare.timed_scene_run(BUILD, bad, self.out / "run", 1)
         self.assertFalse((self.out / "run" / "study_run.json").exists())
 
-
     def test_a_stopped_run_goes_on_from_its_checkpoint_and_reads_as_the_run_never_stopped(self):
         # An elastic block thrown onto a frictional floor under gravity; the stopped run is the same
         # scene stopped at 0.02 s (mpm_solver writes its checkpoint when it stops), with no study record.

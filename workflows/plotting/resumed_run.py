@@ -95,7 +95,8 @@ def _join_pvd(folder, parts, limits):
     for part, limit in zip(parts, limits):
         for t, path in vtu.read_pvd(part / "points.pvd"):
             if last < t <= limit:
-                entries.append(f'    <DataSet timestep="{t!r}" group="" part="0" file="{os.path.relpath(path, folder)}"/>')
+                file = os.path.relpath(path, folder)
+                entries.append(f'    <DataSet timestep="{t!r}" group="" part="0" file="{file}"/>')
                 last = t
     text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
             "  <Collection>\n" + "".join(e + "\n" for e in entries) + "  </Collection>\n</VTKFile>\n")
@@ -114,6 +115,7 @@ def join(folder):
     _join_csv(folder, parts, limits, "series.csv")
     _join_csv(folder, parts, limits, "tracked_points.csv")
     _join_pvd(folder, parts, limits)
-    summary = json.loads((parts[-1] / "summary.json").read_text())
-    summary["resumed_segments"] = [str(part.relative_to(folder)) for part in parts[1:]]
-    _write_atomically(folder / "summary.json", json.dumps(summary, indent=2) + "\n")
+    if (parts[-1] / "summary.json").exists():  # a segment that failed may have written none
+        summary = json.loads((parts[-1] / "summary.json").read_text())
+        summary["resumed_segments"] = [str(part.relative_to(folder)) for part in parts[1:]]
+        _write_atomically(folder / "summary.json", json.dumps(summary, indent=2) + "\n")

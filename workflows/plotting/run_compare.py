@@ -21,10 +21,11 @@ def timed_scene_run(build, scene_file, folder, threads):
     """Runs mpm_solver on `scene_file` into `folder` unless a finished run is there; returns
     {wall_s, cpu_s, failed}. A run that was stopped before it finished goes on from its last
     checkpoint (plotting/resumed_run.py); then cpu_s and wall_s are of its last segment only, and
-    `resumed_from` names the checkpoint. A run that stops (e.g. a point thrown out of the grid) is a result too:
-    its error message is kept and its outputs up to the stop are compared. A run that stops before
-    its first output (a scene mpm_solver rejects) has nothing to compare: RuntimeError with its error,
-    and nothing is recorded, so that the study runs it again once the scene is mended."""
+    `resumed_from` names the checkpoint. A run that stops (e.g. a point thrown out of the grid) is a
+    result too: its error message is kept and its outputs up to the stop are compared. A run that
+    stops before its first output (a scene mpm_solver rejects) has nothing to compare: RuntimeError
+    with its error, and nothing is recorded, so that the study runs it again once the scene is
+    mended."""
     folder = Path(folder)
     if (folder / "study_run.json").exists():
         return json.loads((folder / "study_run.json").read_text())
