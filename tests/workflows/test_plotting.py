@@ -3,10 +3,14 @@ translation run by mpm_solver, the flow measures and errors on hand-made snapsho
 the PNG check; a study's run of a scene that mpm_solver rejects."""
 
 import json
+import signal
+import subprocess
+import sys
+import time
 
 import numpy as np
 
-from workflow_test_util import BUILD, TINY_SCENE, WorkflowTest, run, run_rigid_translation
+from workflow_test_util import BUILD, TINY_SCENE, WORKFLOWS, WorkflowTest, run, run_rigid_translation
 from plotting import flow, fluctuations, png, resumed_run, run_compare, spreading, tables, vtu
 from plotting.collapse_figures import joined_tables
 from plotting.figures import plt
@@ -83,6 +87,51 @@ class StudyRunTest(WorkflowTest):
         resumed_run.join(stopped)
         self.assertEqual((stopped / "points.pvd").read_text(), joined, "joining again changes nothing")
         self.assertEqual(run_compare.timed_scene_run(BUILD, file, stopped, 1), result, "a finished run is kept")
+
+
+    def test_a_study_stopped_by_a_signal_leaves_its_run_checkpointed_and_unrecorded_and_resumes_it(self):
+        # The elastic block of the test above, with an end it would take long to reach; the study is a
+        # Python process running timed_scene_run, stopped by SIGTERM once mpm_solver has written rows.
+        scene = {"grid": {"cell_size": 0.1, "cells": [10, 6]},
+                 "time": {"end": 1000.0, "output_interval": 0.01, "series_interval": 0.005},
+                 "gravity": {"g": [0, -9.81]}, "effects": {"gravity": True, "boundary_friction": True},
+                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
+                              "velocity": [0.5, 0.0]}],
+                 "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5,
+                                "damping": 0.5}]}
+        file, folder = self.out / "scene.json", self.out / "run"
+        file.write_text(json.dumps(scene))
+        study = subprocess.Popen([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
+                                  "from plotting import run_compare; "
+                                  "run_compare.timed_scene_run(sys.argv[2], sys.argv[3], sys.argv[4], 1)",
+                                  WORKFLOWS, BUILD, file, folder], stderr=subprocess.PIPE, text=True)
+        # Synchronised on the run's own output: three rows past its first mean mpm_solver is stepping.
+        while not (folder / "series.csv").exists() or len((folder / "series.csv").read_text().splitlines()) < 5:
+            self.assertIsNone(study.poll(), "the study ended before it was stopped")
+            time.sleep(0.01)
+        study.send_signal(signal.SIGTERM)
+        _, stderr = study.communicate()
+        self.assertNotEqual(study.returncode, 0)
+        self.assertIn("KeyboardInterrupt", stderr)
+        summary = json.loads((folder / "summary.json").read_text())
+        self.assertTrue(summary["interrupted"], "mpm_solver was stopped, not killed")
+        self.assertTrue((folder / "restart.h5").exists())
+        self.assertFalse((folder / "study_run.json").exists(), "a stopped run is no result")
+
+        # Resumed, to an end just past where it stopped.
+        stopped_at = summary["final_time"]
+        scene["time"]["end"] = stopped_at + 0.02
+        file.write_text(json.dumps(scene))
+        result = run_compare.timed_scene_run(BUILD, file, folder, 1)
+        self.assertEqual(result["resumed_from"], "restart.h5")
+        self.assertEqual(result["failed"], "")
+        t = tables.read_csv(folder / "series.csv")["t"]
+        self.assertTrue((np.diff(t) > 0).all(), "one row per time across the seam")
+        self.assertAlmostEqual(json.loads((folder / "summary.json").read_text())["final_time"], stopped_at + 0.02,
+                               delta=1e-12)
+        self.assertLess(t[0], stopped_at)
+        self.assertGreater(t[-1], stopped_at)
 
 
 class FlowTest(WorkflowTest):

@@ -22,7 +22,8 @@ def timed_scene_run(build, scene_file, folder, threads):
     {wall_s, cpu_s, failed}. A run that was stopped before it finished goes on from its last
     checkpoint (plotting/resumed_run.py); then cpu_s and wall_s are of its last segment only, and
     `resumed_from` names the checkpoint. A run that stops (e.g. a point thrown out of the grid) is a
-    result too: its error message is kept and its outputs up to the stop are compared. A run that
+    result too: its error message is kept and its outputs up to the stop are compared; not so a run
+    stopped by a signal (RuntimeError, nothing recorded: the study's next run resumes it). A run that
     stops before its first output (a scene mpm_solver rejects) has nothing to compare: RuntimeError
     with its error, and nothing is recorded, so that the study runs it again once the scene is
     mended."""
@@ -35,6 +36,9 @@ def timed_scene_run(build, scene_file, folder, threads):
                                   "--threads", threads, *(["--restart", checkpoint] if checkpoint else [])])
     if error and not (out / "series.csv").exists():
         raise RuntimeError(f"{scene_file}: mpm_solver stopped before its first output: {error}")
+    if (out / "summary.json").exists() and json.loads((out / "summary.json").read_text()).get("interrupted"):
+        # Stopped by a signal to mpm_solver alone: not a result, and the next study resumes it.
+        raise RuntimeError(f"{scene_file}: {error}; run the study again to resume it")
     result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
     if checkpoint:
         resumed_run.join(folder)
