@@ -44,6 +44,18 @@ class ReaderTest(WorkflowTest):
             vtu.read_vtu(bad)
 
 
+def thrown_block(end):
+    """An elastic block thrown along a frictional floor under gravity, to `end` [s]: a scene whose
+    every step is cheap and whose state changes from step to step."""
+    return {"grid": {"cell_size": 0.1, "cells": [10, 6]},
+            "time": {"end": end, "output_interval": 0.01, "series_interval": 0.005},
+            "gravity": {"g": [0, -9.81]}, "effects": {"gravity": True, "boundary_friction": True},
+            "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
+            "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
+                         "velocity": [0.5, 0.0]}],
+            "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5, "damping": 0.5}]}
+
+
 class StudyRunTest(WorkflowTest):
     def test_a_rejected_scene_is_an_error_naming_it_and_is_not_recorded_as_a_result(self):
         scene = json.loads(TINY_SCENE.read_text())
@@ -55,16 +67,9 @@ class StudyRunTest(WorkflowTest):
         self.assertFalse((self.out / "run" / "study_run.json").exists())
 
     def test_a_stopped_run_goes_on_from_its_checkpoint_and_reads_as_the_run_never_stopped(self):
-        # An elastic block thrown onto a frictional floor under gravity; the stopped run is the same
-        # scene stopped at 0.02 s (mpm_solver writes its checkpoint when it stops), with no study record.
-        scene = {"grid": {"cell_size": 0.1, "cells": [10, 6]},
-                 "time": {"end": 0.04, "output_interval": 0.01, "series_interval": 0.005},
-                 "gravity": {"g": [0, -9.81]}, "effects": {"gravity": True, "boundary_friction": True},
-                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
-                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
-                              "velocity": [0.5, 0.0]}],
-                 "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5,
-                                "damping": 0.5}]}
+        # The stopped run is the same scene stopped at 0.02 s (mpm_solver writes its checkpoint when it
+        # stops), with no study record.
+        scene = thrown_block(end=0.04)
         file = self.out / "scene.json"
         file.write_text(json.dumps(scene))
         whole, stopped = self.out / "whole", self.out / "stopped"
@@ -90,16 +95,9 @@ class StudyRunTest(WorkflowTest):
 
 
     def test_a_study_stopped_by_a_signal_leaves_its_run_checkpointed_and_unrecorded_and_resumes_it(self):
-        # The elastic block of the test above, with an end it would take long to reach; the study is a
-        # Python process running timed_scene_run, stopped by SIGTERM once mpm_solver has written rows.
-        scene = {"grid": {"cell_size": 0.1, "cells": [10, 6]},
-                 "time": {"end": 1000.0, "output_interval": 0.01, "series_interval": 0.005},
-                 "gravity": {"g": [0, -9.81]}, "effects": {"gravity": True, "boundary_friction": True},
-                 "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
-                 "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
-                              "velocity": [0.5, 0.0]}],
-                 "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5,
-                                "damping": 0.5}]}
+        # An end the block would take long to reach; the study is a Python process running
+        # timed_scene_run, stopped by SIGTERM once mpm_solver has written rows.
+        scene = thrown_block(end=1000.0)
         file, folder = self.out / "scene.json", self.out / "run"
         file.write_text(json.dumps(scene))
         study = subprocess.Popen([sys.executable, "-c", "import sys; sys.path.insert(0, sys.argv[1]); "
