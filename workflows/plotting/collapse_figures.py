@@ -8,7 +8,7 @@ from pathlib import Path
 import matplotlib.colors as colors
 import numpy as np
 
-from . import figures, spreading, tables, tracked_cells, vtu
+from . import figures, resumed_run, spreading, tables, tracked_cells, vtu
 
 
 def snapshot_figures(snapshots, out, panels):
@@ -87,8 +87,7 @@ def tracked_cell_counts(run_dir):
 def segment_ends(run_dirs):
     """For each segment of a resumed run, the time from which the next segment takes over: the next one's
     start (a killed segment ran on past the checkpoint it was resumed from); infinity for the last."""
-    starts = [vtu.read_pvd(Path(d) / "points.pvd")[0][0] for d in run_dirs]
-    return [start * (1 - 1e-12) for start in starts[1:]] + [np.inf]
+    return [start * (1 - 1e-12) for start in resumed_run.segment_starts(run_dirs)] + [np.inf]
 
 
 def joined_tables(parts, ends):

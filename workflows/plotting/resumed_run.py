@@ -18,7 +18,7 @@ import math
 import os
 from pathlib import Path
 
-from . import vtu
+from . import tables, vtu
 
 SEGMENT = "resumed_"
 
@@ -45,28 +45,16 @@ def next_segment(folder):
     return Path(folder) / f"{SEGMENT}{len(segments(folder)) + 1}"
 
 
+def segment_starts(run_dirs):
+    """The time each segment of a resumed run after the first takes over: its first snapshot."""
+    return [vtu.read_pvd(Path(d) / "points.pvd")[0][0] for d in run_dirs[1:]]
+
+
 def _seam_limits(parts):
     """For each segment, the last time it may give a row: up to and including the next segment's start
     (its row there is the same state, and it carries the step that led to it, where the next segment's
     first row has none); infinity for the last."""
-    starts = [vtu.read_pvd(part / "points.pvd")[0][0] for part in parts[1:]]
-    return [start * (1 + 1e-12) for start in starts] + [math.inf]
-
-
-def _time(line):
-    return float(line.split(",", 1)[0])
-
-
-def _complete_lines(file):
-    """The header and the complete rows of a CSV (a last row without its line end is the one a killed
-    run was writing)."""
-    text = file.read_text()
-    lines = text.splitlines()
-    if lines and not text.endswith("\n"):
-        lines.pop()
-    if not lines:
-        raise ValueError(f"{file}: empty, expected a header line")
-    return lines[0], lines[1:]
+    return [start * (1 + 1e-12) for start in segment_starts(parts)] + [math.inf]
 
 
 def _write_atomically(file, text):
@@ -75,31 +63,38 @@ def _write_atomically(file, text):
     os.replace(scratch, file)
 
 
+def _across_seams(timed_items, limits):
+    """Of each segment's (t, item) pairs, in time order, those after the previous segments' last kept
+    time and up to the segment's limit. Within a segment several items may share a time (the rows of
+    tracked_points.csv, one per point)."""
+    last = -math.inf
+    for items, limit in zip(timed_items, limits):
+        kept = [(t, item) for t, item in items if last < t <= limit]
+        yield from (item for _, item in kept)
+        last = kept[-1][0] if kept else last
+
+
 def _join_csv(folder, parts, limits, name):
     if not all((part / name).exists() for part in parts):
         return
-    header, rows, last = None, [], -math.inf
-    for part, limit in zip(parts, limits):
-        head, lines = _complete_lines(part / name)
-        if header is not None and head != header:
+    headers, timed_rows = [], []
+    for part in parts:
+        header, *lines = tables.complete_lines(part / name)
+        if headers and header != headers[0]:
             raise ValueError(f"{part / name}: header differs from the first segment's {Path(folder) / name}")
-        header = head
-        kept = [line for line in lines if last < _time(line) <= limit]
-        rows += kept
-        last = _time(kept[-1]) if kept else last
-    _write_atomically(Path(folder) / name, "\n".join([header, *rows]) + "\n")
+        headers.append(header)
+        timed_rows.append([(float(line.split(",", 1)[0]), line) for line in lines])
+    rows = list(_across_seams(timed_rows, limits))
+    _write_atomically(Path(folder) / name, "\n".join([headers[0], *rows]) + "\n")
 
 
 def _join_pvd(folder, parts, limits):
-    entries, last = [], -math.inf
-    for part, limit in zip(parts, limits):
-        for t, path in vtu.read_pvd(part / "points.pvd"):
-            if last < t <= limit:
-                file = os.path.relpath(path, folder)
-                entries.append(f'    <DataSet timestep="{t!r}" group="" part="0" file="{file}"/>')
-                last = t
+    collections = ([(t, (t, os.path.relpath(path, folder))) for t, path in vtu.read_pvd(part / "points.pvd")]
+                   for part in parts)
+    entries = "".join(f'    <DataSet timestep="{t!r}" group="" part="0" file="{file}"/>\n'
+                      for t, file in _across_seams(collections, limits))
     text = ('<?xml version="1.0"?>\n<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">\n'
-            "  <Collection>\n" + "".join(e + "\n" for e in entries) + "  </Collection>\n</VTKFile>\n")
+            "  <Collection>\n" + entries + "  </Collection>\n</VTKFile>\n")
     _write_atomically(Path(folder) / "points.pvd", text)
 
 

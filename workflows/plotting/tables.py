@@ -5,17 +5,24 @@ from pathlib import Path
 import numpy as np
 
 
-def read_csv(file):
-    """Column name → float array of a numeric CSV with a header line; ValueError naming the file when
-    the header is missing or a row has the wrong number of fields. A last row without its line end is
-    dropped: it is the row a killed run was writing."""
+def complete_lines(file):
+    """The header line and the complete rows of a CSV, as text; ValueError naming the file when it is
+    empty. A last row without its line end is dropped: it is the row a killed run was writing."""
     file = Path(file)
     text = file.read_text()
-    rows = list(csv.reader(text.splitlines()))
-    if len(rows) > 1 and not text.endswith("\n"):
-        rows.pop()
-    if not rows:
+    lines = text.splitlines()
+    if len(lines) > 1 and not text.endswith("\n"):
+        lines.pop()
+    if not lines:
         raise ValueError(f"{file}: empty, expected a header line")
+    return lines
+
+
+def read_csv(file):
+    """Column name → float array of a numeric CSV with a header line (complete_lines); ValueError
+    naming the file when the header is missing or a row has the wrong number of fields."""
+    file = Path(file)
+    rows = list(csv.reader(complete_lines(file)))
     header = rows[0]
     for number, row in enumerate(rows[1:], start=2):
         if len(row) != len(header):

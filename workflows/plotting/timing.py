@@ -24,7 +24,8 @@ def timed_run(command):
     their current step and write their checkpoint, which a tool killed at once (as subprocess.run
     kills it) or left writing to a closed pipe would lose. Then KeyboardInterrupt."""
     wall, cpu = time.monotonic(), child_cpu_seconds()
-    process = subprocess.Popen([str(c) for c in command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+    process = subprocess.Popen([str(c) for c in command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                               text=True)
     in_main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, _stop_study) if in_main_thread else None
     try:
