@@ -1,6 +1,6 @@
 // `mpm_solver SCENE.json`: runs a scene to its end time, writing VTU/PVD snapshots, the CSV series,
 // tracked points and their DEM cells, a run summary JSON and a final restart file (restart.h5) into
-// the output folder. A run asked to stop (SIGINT/SIGTERM) stops after its current step and writes the
+// the output folder. A run asked to stop (SIGINT/SIGTERM/SIGHUP/SIGPIPE) stops after its current step and writes the
 // same restart file and summary, so `--restart OUT/restart.h5` continues it exactly. A run that is
 // killed outright (SIGKILL, a machine restart) has its last checkpoint: OUT/restart.h5 is also written,
 // complete or not at all, at the first output snapshot after every `checkpoint_every` wall seconds.
@@ -26,7 +26,7 @@ struct RunOptions {
   bool progress = true;  // a progress line with ETA on stderr
   // Wall seconds between checkpoints, each written at an output snapshot (0: at every snapshot).
   double checkpoint_every = 600;
-  // Polled after every step (the CLI wires SIGINT/SIGTERM to it): once true, the run stops there,
+  // Polled after every step (the CLI wires SIGINT/SIGTERM/SIGHUP/SIGPIPE to it): once true, the run stops there,
   // writes OUT/restart.h5 and returns a summary with "interrupted": true.
   const std::atomic<bool>* stop = nullptr;
   // The MPI ranks the run is spread over (null: this process alone). Every rank calls run_scene with

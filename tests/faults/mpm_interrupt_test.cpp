@@ -1,4 +1,4 @@
-// SIGINT or SIGTERM during `mpm_solver SCENE.json` stops the run after its current step: it writes
+// SIGINT, SIGTERM, SIGHUP or SIGPIPE during `mpm_solver SCENE.json` stops the run after its current step: it writes
 // OUT/restart.h5 and summary.json ("interrupted": true), exits with status 1 and says how to resume.
 // Resuming with --restart continues exactly like the uninterrupted run: the final restart files of
 // both hold bitwise-equal points (positions, velocities, F, stresses) at the same time and step.
@@ -98,8 +98,10 @@ TEST_P(MpmInterrupt, WritesARestartThatResumesBitForBit) {
   expect_resumes_bit_for_bit(here, scene, restart, dir_->path() / "reference");
 }
 
-INSTANTIATE_TEST_SUITE_P(Signals, MpmInterrupt, ::testing::Values(SIGINT, SIGTERM),
-                         [](const auto& info) { return info.param == SIGINT ? "Sigint" : "Sigterm"; });
+// SIGHUP: the terminal closed; SIGPIPE: the reader of the progress lines went away (a study killed
+// outright), which by default would end the run without its checkpoint.
+INSTANTIATE_TEST_SUITE_P(Signals, MpmInterrupt, ::testing::Values(SIGINT, SIGTERM, SIGHUP, SIGPIPE),
+                         [](const auto& info) { return std::string(sigabbrev_np(info.param)); });
 
 // A run killed outright writes nothing on its way out; with --checkpoint-every 0 it has left the
 // restart of its last snapshot, from which it resumes exactly like the uninterrupted run.
