@@ -53,7 +53,8 @@ def thrown_block(end):
             "materials": [{"name": "m", "law": "elastic", "density": 1000, "young": 1e5, "poisson": 0.3}],
             "regions": [{"material": "m", "rectangle": {"min": [0.2, 0.12], "max": [0.4, 0.32]},
                          "velocity": [0.5, 0.0]}],
-            "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5, "damping": 0.5}]}
+            "obstacles": [{"line": [[0, 0.1], [1.0, 0.1]], "k_n": 2e5, "k_t": 2e5, "friction": 0.5, "damping": 0.5}],
+            "tracked_points": [[0.22, 0.14], [0.38, 0.3]]}
 
 
 class StudyRunTest(WorkflowTest):
@@ -81,6 +82,9 @@ class StudyRunTest(WorkflowTest):
         self.assertEqual(result["resumed_from"], "restart.h5")
         self.assertEqual(resumed_run.segments(stopped), [stopped / "resumed_1"])
         self.assertEqual((stopped / "series.csv").read_text(), (whole / "series.csv").read_text())
+        tracked = (stopped / "tracked_points.csv").read_text()
+        self.assertEqual(tracked, (whole / "tracked_points.csv").read_text())
+        self.assertEqual(len(tracked.splitlines()), 1 + 2 * 9, "two points at each of 9 series times")
         ours, theirs = vtu.read_run(stopped), vtu.read_run(whole)
         self.assertEqual([s.time for s in ours], [0, 0.01, 0.02, 0.03, 0.04])
         self.assertEqual([s.time for s in ours], [s.time for s in theirs])
