@@ -77,15 +77,15 @@ def _across_seams(timed_items, limits):
 def _join_csv(folder, parts, limits, name):
     if not all((part / name).exists() for part in parts):
         return
-    headers, timed_rows = [], []
+    first_header, timed_rows = None, []
     for part in parts:
         header, *lines = tables.complete_lines(part / name)
-        if headers and header != headers[0]:
+        first_header = first_header or header
+        if header != first_header:
             raise ValueError(f"{part / name}: header differs from the first segment's {Path(folder) / name}")
-        headers.append(header)
         timed_rows.append([(float(line.split(",", 1)[0]), line) for line in lines])
     rows = list(_across_seams(timed_rows, limits))
-    _write_atomically(Path(folder) / name, "\n".join([headers[0], *rows]) + "\n")
+    _write_atomically(Path(folder) / name, "\n".join([first_header, *rows]) + "\n")
 
 
 def _join_pvd(folder, parts, limits):

@@ -22,7 +22,8 @@ def timed_run(command):
     A study stopped while the tool runs (Ctrl-C, or SIGTERM to the study) passes the stop on to the
     tool and waits for it to exit, however long that takes: mpm_solver and dem_sampler stop after
     their current step and write their checkpoint, which a tool killed at once (as subprocess.run
-    kills it) or left writing to a closed pipe would lose. Then KeyboardInterrupt."""
+    kills it) would lose. (A study killed outright cannot pass anything on: its tool then stops the
+    same way on the SIGPIPE of its next progress line.) Then KeyboardInterrupt."""
     wall, cpu = time.monotonic(), child_cpu_seconds()
     process = subprocess.Popen([str(c) for c in command], stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                                text=True)
