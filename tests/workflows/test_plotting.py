@@ -97,6 +97,16 @@ class StudyRunTest(WorkflowTest):
         self.assertEqual((stopped / "points.pvd").read_text(), joined, "joining again changes nothing")
         self.assertEqual(run_compare.timed_scene_run(BUILD, file, stopped, 1), result, "a finished run is kept")
 
+        # A segment written by a build whose series has other columns cannot be joined row by row: the
+        # join names that segment's file and leaves the joined run as it was.
+        segment_series = stopped / "resumed_1" / "series.csv"
+        header, rest = segment_series.read_text().split("\n", 1)
+        segment_series.write_text(header + ",extra\n" + rest)
+        joined_series = (stopped / "series.csv").read_text()
+        with self.assertRaisesRegex(ValueError, r"resumed_1/series\.csv: header differs from the first segment's"):
+            resumed_run.join(stopped)
+        self.assertEqual((stopped / "series.csv").read_text(), joined_series)
+
 
     def test_a_study_stopped_by_a_signal_leaves_its_run_checkpointed_and_unrecorded_and_resumes_it(self):
         # An end the block would take long to reach; the study is a Python process running
