@@ -29,6 +29,37 @@ class CellResponseTest(WorkflowTest):
         self.assertAlmostEqual(r["G_simple_shear"] / r["G_pure_shear"], 1, delta=0.35)
         self.assertIn("| dense | 1000 | 1 |", (self.out / "moduli.md").read_text())
 
+    def test_moduli_of_a_bonded_cell_as_it_stands(self):
+        """Bonds are springs in parallel with the contacts: the same packing bonded is stiffer than
+        without its bonds. E and ν are the isotropic solid's from K and G, so E = 2G(1 + ν)."""
+        cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_125.json").read_text())
+        cell["preparation"]["spheres"] = 64
+        unbonded = json.loads(json.dumps(cell))
+        unbonded["effects"]["cohesion"] = False
+        del unbonded["material"]["bond"]
+        (self.out / "bonded.json").write_text(json.dumps(cell))
+        (self.out / "unbonded.json").write_text(json.dumps(unbonded))
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "moduli.py", self.out, "--build", BUILD,
+             "--cells", self.out / "bonded.json", self.out / "unbonded.json"])
+        with (self.out / "moduli.csv").open() as f:
+            bonded, free = list(csv.DictReader(f))
+        self.assertEqual((bonded["preparation"], bonded["pressure"], bonded["spheres"]), ("bonded", "200", "64"))
+        self.assertEqual(bonded["K_voigt"], "", "the Voigt estimate has no bonds in it")
+        self.assertGreater(float(free["K_voigt"]), 0)
+        self.assertAlmostEqual(float(bonded["phi"]), float(free["phi"]), delta=1e-4, msg="one packing")
+        for key in ("K", "G_pure_shear", "G_simple_shear"):
+            self.assertGreater(float(bonded[key]), float(free[key]), key)
+        for r in (bonded, free):
+            self.assertTrue(0 < float(r["poisson"]) < 0.5, r["poisson"])
+            self.assertAlmostEqual(float(r["young"]), 2 * float(r["G_pure_shear"]) * (1 + float(r["poisson"])),
+                                   delta=1e-9 * float(r["young"]))
+        self.assertIn("| bonded | 200 | 1 |", (self.out / "moduli.md").read_text())
+        (self.out / "broken.json").write_text("{\"material\": ")
+        refused = subprocess.run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "moduli.py", self.out / "bad",
+                                  "--build", BUILD, "--cells", self.out / "broken.json"], capture_output=True, text=True)
+        self.assertNotEqual(refused.returncode, 0)
+        self.assertIn("broken.json: expected a cell JSON file", refused.stderr)
+
     def test_mu_of_i(self):
         run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "mu_of_i.py", self.out, "--build", BUILD,
              "--seeds", "1", "--inertial-numbers", "0.01", "0.2", "--spheres", "64", "--strain", "3",

@@ -16,11 +16,17 @@ moduli lie below the affine ones (relaxation can only lower the elastic energy);
 especially for G, measures the non-affine softening that effective-medium theory misses (Makse et
 al. 1999, PRL 83:5070; Agnolin & Roux 2007, PRE 76:061304).
 
+With `--cells FILE ...` the cells are those files as they stand (a column's cell, bonded or not: its
+own material, preparation and seed) instead of the seeds × pressures × preparations above; a bonded
+cell has no Voigt estimate here (its bonds are not in it), so its K/K_V and G/G_V stay empty. Every
+row also gives the isotropic solid's E and ν from K and the pure-shear G, which is what an elastic twin
+of the cell carries.
+
   /usr/bin/python3 moduli.py [OUT] [--build BUILD] [--seeds 1 2 3 4] [--pressures 1000 10000] [--preparations dense loose]
-                             [--spheres 125]
+                             [--spheres 125] [--cells FILE ...]
 
 Writes OUT/moduli.csv (one row per cell) and OUT/moduli.md (the table, mean ± standard deviation over
-seeds).
+seeds; one row per file with `--cells`).
 """
 import argparse
 import csv
@@ -74,14 +80,21 @@ def strained_minus_rest(changes, name):
     return {k: changes[name][k] - changes["rest"][k] for k in changes[name]}
 
 
-def voigt(phi, z, radius):
+def voigt(phi, z, radius, material):
     scale = phi * z / (math.pi * radius)
-    return scale * MATERIAL["k_n"] / 6, scale * (2 * MATERIAL["k_n"] + 3 * MATERIAL["k_t"]) / 20
+    return scale * material["k_n"] / 6, scale * (2 * material["k_n"] + 3 * material["k_t"]) / 20
 
 
-def measure(build, folder, seed, pressure, spheres, preparation):
+def young_and_poisson(bulk, shear):
+    """E and ν of the isotropic linear solid with bulk modulus K and shear modulus G."""
+    return 9 * bulk * shear / (3 * bulk + shear), (3 * bulk - 2 * shear) / (2 * (3 * bulk + shear))
+
+
+def measure(build, folder, spec, preparation):
+    """The moduli of the cell `spec` (a cell JSON as dem_sampler reads it), in `folder`; the row is
+    labelled `preparation`."""
     folder.mkdir(parents=True, exist_ok=True)
-    (folder / "cell.json").write_text(json.dumps(cell_spec(seed, pressure, spheres, preparation)))
+    (folder / "cell.json").write_text(json.dumps(spec))
     changes = {}
     for name, direction in LOADS.items():
         (folder / f"{name}.json").write_text(json.dumps(path_spec(direction)))
@@ -97,29 +110,44 @@ def measure(build, folder, seed, pressure, spheres, preparation):
     pure, simple = strained_minus_rest(changes, "pure_shear"), strained_minus_rest(changes, "simple_shear")
     lam, g_compression = -c["zz"] / (2 * e), (c["zz"] - c["xx"]) / (2 * e)
     phi, z = float(initial["phi"]), float(initial["Z"])
-    k_v, g_v = voigt(phi, z, (DIAMETER["min"] + DIAMETER["max"]) / 4)
-    return {"preparation": preparation, "seed": seed, "pressure": pressure, "spheres": spheres, "phi": phi, "Z": z,
-            "K": lam + 2 * g_compression / 3, "G_compression": g_compression,
-            "G_pure_shear": (pure["xx"] - pure["yy"]) / (4 * e), "G_simple_shear": simple["xy"] / (2 * e),
-            "K_voigt": k_v, "G_voigt": g_v, "rest_drift": max(abs(v) for v in changes["rest"].values())}
+    made, diameter = spec["preparation"], spec["preparation"]["diameter"]
+    bonded = "bond" in spec["material"]
+    k_v, g_v = ("", "") if bonded else voigt(phi, z, (diameter["min"] + diameter["max"]) / 4, spec["material"])
+    bulk, g_pure = lam + 2 * g_compression / 3, (pure["xx"] - pure["yy"]) / (4 * e)
+    young, poisson = young_and_poisson(bulk, g_pure)
+    return {"preparation": preparation, "seed": made["seed"], "pressure": made["pressure"], "spheres": made["spheres"],
+            "phi": phi, "Z": z, "K": bulk, "G_compression": g_compression, "G_pure_shear": g_pure,
+            "G_simple_shear": simple["xy"] / (2 * e), "K_voigt": k_v, "G_voigt": g_v, "young": young,
+            "poisson": poisson, "rest_drift": max(abs(v) for v in changes["rest"].values())}
+
+
+def read_cell(file):
+    try:
+        return json.loads(file.read_text())
+    except (OSError, json.JSONDecodeError) as err:
+        sys.exit(f"moduli.py: {file}: expected a cell JSON file: {err}")
 
 
 def table(rows):
     def stat(key, group, scale=1.0):
+        if any(r[key] == "" for r in group):
+            return "–"
         values = [r[key] / scale for r in group]
         spread = statistics.stdev(values) if len(values) > 1 else 0.0
         return f"{statistics.mean(values):.3g} ± {spread:.2g}"
 
-    lines = ["| preparation | p0 [Pa] | cells | φ | Z | K [MPa] | K/K_V | G [MPa] (pure shear) | G/G_V | G simple shear / pure shear |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+    lines = ["| preparation | p0 [Pa] | cells | φ | Z | K [MPa] | K/K_V | G [MPa] (pure shear) | G/G_V | G simple shear / pure shear | E [MPa] | ν |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for preparation, pressure in dict.fromkeys((r["preparation"], r["pressure"]) for r in rows):
         group = [r for r in rows if (r["preparation"], r["pressure"]) == (preparation, pressure)]
         for r in group:
-            r["K_ratio"], r["G_ratio"] = r["K"] / r["K_voigt"], r["G_pure_shear"] / r["G_voigt"]
+            has_voigt = r["K_voigt"] != ""
+            r["K_ratio"] = r["K"] / r["K_voigt"] if has_voigt else ""
+            r["G_ratio"] = r["G_pure_shear"] / r["G_voigt"] if has_voigt else ""
             r["G_isotropy"] = r["G_simple_shear"] / r["G_pure_shear"]
         lines.append(f"| {preparation} | {pressure:g} | {len(group)} | {stat('phi', group)} | {stat('Z', group)} | {stat('K', group, 1e6)} | "
                      f"{stat('K_ratio', group)} | {stat('G_pure_shear', group, 1e6)} | {stat('G_ratio', group)} | "
-                     f"{stat('G_isotropy', group)} |")
+                     f"{stat('G_isotropy', group)} | {stat('young', group, 1e6)} | {stat('poisson', group)} |")
     return "\n".join(lines) + "\n"
 
 
@@ -131,10 +159,15 @@ def main():
     parser.add_argument("--pressures", type=float, nargs="+", default=[1000, 10000])
     parser.add_argument("--preparations", nargs="+", choices=list(PREPARATIONS), default=list(PREPARATIONS))
     parser.add_argument("--spheres", type=int, default=125)
+    parser.add_argument("--cells", type=Path, nargs="+", help="cell JSON files to measure as they stand")
     args = parser.parse_args()
-    rows = [measure(args.build.resolve(), args.out / f"{preparation}_p{pressure:g}_seed{seed}", seed, pressure,
-                    args.spheres, preparation)
-            for preparation in args.preparations for pressure in args.pressures for seed in args.seeds]
+    build = args.build.resolve()
+    if args.cells:
+        rows = [measure(build, args.out / file.stem, read_cell(file), file.stem) for file in args.cells]
+    else:
+        rows = [measure(build, args.out / f"{preparation}_p{pressure:g}_seed{seed}",
+                        cell_spec(seed, pressure, args.spheres, preparation), preparation)
+                for preparation in args.preparations for pressure in args.pressures for seed in args.seeds]
     text = table(rows)
     with (args.out / "moduli.csv").open("w", newline="") as f:
         writer = csv.DictWriter(f, fieldnames=list(rows[0]))

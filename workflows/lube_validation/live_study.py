@@ -73,7 +73,7 @@ def cell_elasticity():
         rows = [r for r in csv.DictReader(f) if r["preparation"] == "dense" and float(r["pressure"]) == 1000]
     k = statistics.mean(float(r["K"]) for r in rows)
     g = statistics.mean(float(r["G_pure_shear"]) for r in rows)
-    return 9 * k * g / (3 * k + g), (3 * k - 2 * g) / (2 * (3 * k + g)), statistics.mean(float(r["phi"]) for r in rows)
+    return (*moduli.young_and_poisson(k, g), statistics.mean(float(r["phi"]) for r in rows))
 
 
 def twin_material(inertial=False, separation=False):
