@@ -252,6 +252,24 @@ class CornerStressTest(WorkflowTest):
         # strength exactly. A file from before the strength was recorded gives no ratio.
         run = {"peak_load": 0.9 * 0.3, "strength": {"q_u": 540 * corner_stress.G * 0.27, "density": 540}}
         self.assertAlmostEqual(corner_stress.peak_over_strength(run), 1.0, places=12)
+
+    def test_each_cells_runs_are_ranked_alone_where_the_cells_together_overlap(self):
+        # Two packings whose verdicts each one load separates (1.10–1.15 and 1.16–1.20 of their q_u),
+        # but a standing run of the stronger lies above a falling run of the weaker.
+        def verdict(cell, ratio, stands):
+            return {"cell": f"dir/{cell}.json", "floor_friction": None, "stands": stands, "toe_load": ratio,
+                    "peak_load": ratio, "peak_over_strength": ratio}
+        runs = [verdict("weak", 1.10, True), verdict("weak", 1.15, False),
+                verdict("strong", 1.16, True), verdict("strong", 1.20, False)]
+        critical, per_cell = corner_stress.critical_loads(runs)
+        together = critical["the scene's"]["peak_over_strength"]
+        self.assertEqual((together["highest_standing"], together["lowest_falling"]), (1.16, 1.15))
+        self.assertFalse(together["separates_every_run"])
+        for cell, (high, low) in (("weak.json", (1.10, 1.15)), ("strong.json", (1.16, 1.20))):
+            alone = per_cell["the scene's"][cell]["peak_over_strength"]
+            self.assertEqual((alone["highest_standing"], alone["lowest_falling"]), (high, low))
+            self.assertTrue(alone["separates_every_run"])
+        self.assertEqual(corner_stress.critical_loads(runs[:2])[1], {}, "one cell: nothing per cell")
         self.assertIsNone(corner_stress.peak_over_strength({"peak_load": 0.27, "strength": None}))
 
     def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):

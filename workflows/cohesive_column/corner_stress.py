@@ -156,12 +156,12 @@ def threshold_rows(files, release=None):
 
 
 def critical_load(rows, load):
-    """(highest standing `load`, lowest falling `load`, whether the first is below the second) over
-    `rows`; None where no run stood or fell."""
+    """The highest standing `load` and the lowest falling one over `rows` (None where no run stood or
+    fell), and whether the first is below the second."""
     standing = [r[load] for r in rows if r["stands"]]
     falling = [r[load] for r in rows if not r["stands"]]
     high, low = (max(standing) if standing else None), (min(falling) if falling else None)
-    return high, low, high is None or low is None or high < low
+    return {"highest_standing": high, "lowest_falling": low, "separates_every_run": high is None or low is None or high < low}
 
 
 # The two loads a run is ranked by, in metres of overburden (2τ_max / (ρ g)): the toe's settled stress,
@@ -170,6 +170,25 @@ LOADS = {"toe_load": "the toe's settled 2τ_max", "peak_load": "the corners' pea
 # And, where the run's file gives its cell's unconfined strength q_u and bulk density ρ, that peak over
 # q_u: cells of other packings differ in strength, and this ranks their runs together.
 STRENGTH_RATIO = {"peak_over_strength": "the corners' peak 2τ_max after the gate over the cell's q_u"}
+
+
+def critical_loads(runs):
+    """Per floor, each load's critical_load over `runs` (ranked runs: their loads set); and where the
+    runs are of several cells, per floor and cell the same over that cell's runs alone. One critical
+    load per floor: a frictional floor confines the toe, a frictionless one leaves the base in
+    uniaxial compression, and the cell's strength differs between the two. Per cell: whether one load
+    separates the runs of one packing, whatever the grid, where no load over q_u separates them all."""
+    critical, per_cell = {}, {}
+    for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
+        group = [r for r in runs if r.get("floor_friction") == friction]
+        ranked = dict(LOADS, **(STRENGTH_RATIO if all(r["peak_over_strength"] is not None for r in group) else {}))
+        critical[floor_name(friction)] = {load: critical_load(group, load) for load in ranked}
+        cells = sorted({Path(r["cell"]).name for r in group})
+        if len(cells) > 1:
+            per_cell[floor_name(friction)] = {
+                cell: {load: critical_load([r for r in group if Path(r["cell"]).name == cell], load) for load in ranked}
+                for cell in cells}
+    return critical, per_cell
 
 
 def loads(twin, height):
@@ -228,17 +247,7 @@ def main():
         r["twin"] = twin(r["height"], r["width"], r["cell_size"], r.get("floor_friction"))
         r.update(loads(r["twin"], r["height"]))
         r["peak_over_strength"] = peak_over_strength(r)
-    # One critical load per floor: a frictional floor confines the toe, a frictionless one leaves the
-    # base in uniaxial compression, and the cell's strength differs between the two.
-    critical = {}
-    for friction in sorted({r.get("floor_friction") for r in runs}, key=lambda f: -1 if f is None else f):
-        group = [r for r in runs if r.get("floor_friction") == friction]
-        critical[floor_name(friction)] = {}
-        ranked = dict(LOADS, **(STRENGTH_RATIO if all(r["peak_over_strength"] is not None for r in group) else {}))
-        for load in ranked:
-            high, low, separated = critical_load(group, load)
-            critical[floor_name(friction)][load] = {"highest_standing": high, "lowest_falling": low,
-                                                    "separates_every_run": separated}
+    critical, critical_per_cell = critical_loads(runs)
     own = critical.get(floor_name(args.floor_friction), {})
     for r in refinement:  # a column of this shape and H0/h stands below high / f and falls above low / f
         per_height = loads(r, 1.0)
@@ -253,7 +262,7 @@ def main():
                                               "stands", "front",
                                               "twin", *LOADS, *STRENGTH_RATIO)}
                        for r in runs],
-              "critical": critical}
+              "critical": critical, "critical_per_cell": critical_per_cell}
     (args.out / "corner_stress.json").write_text(json.dumps(result, indent=1) + "\n")
     (args.out / "corner_stress.md").write_text(report(result))
     print(report(result), end="")
@@ -311,12 +320,19 @@ def report(result):
                          f"{r['toe_load']:.4f} | {r['peak_load']:.4f} | {ratio_text(r['peak_over_strength'])} |")
         lines.append("")
         for floor, per_load in result["critical"].items():
-            for load, c in per_load.items():
-                lines.append(f"Floor friction {floor}, {dict(LOADS, **STRENGTH_RATIO)[load]}: highest standing "
-                             f"{load_text(c['highest_standing'], load)}, lowest falling {load_text(c['lowest_falling'], load)}: "
-                             + ("one critical load separates every standing run from every falling one."
-                                if c["separates_every_run"] else "no single critical load separates the verdicts."))
+            lines += [critical_text(f"Floor friction {floor}", load, c) for load, c in per_load.items()]
+        for floor, per_cell in result.get("critical_per_cell", {}).items():
+            lines += ["", f"Each cell's runs alone, floor friction {floor}:"]
+            lines += [critical_text(f"- {cell}", load, c) for cell, per_load in per_cell.items()
+                      for load, c in per_load.items()]
     return "\n".join(lines) + "\n"
+
+
+def critical_text(whose, load, c):
+    return (f"{whose}, {dict(LOADS, **STRENGTH_RATIO)[load]}: highest standing {load_text(c['highest_standing'], load)}, "
+            f"lowest falling {load_text(c['lowest_falling'], load)}: "
+            + ("one critical load separates every standing run from every falling one."
+               if c["separates_every_run"] else "no single critical load separates the verdicts."))
 
 
 if __name__ == "__main__":
