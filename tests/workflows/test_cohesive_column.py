@@ -252,6 +252,7 @@ class CornerStressTest(WorkflowTest):
         # strength exactly. A file from before the strength was recorded gives no ratio.
         run = {"peak_load": 0.9 * 0.3, "strength": {"q_u": 540 * corner_stress.G * 0.27, "density": 540}}
         self.assertAlmostEqual(corner_stress.peak_over_strength(run), 1.0, places=12)
+        self.assertIsNone(corner_stress.peak_over_strength({"peak_load": 0.27, "strength": None}))
 
     def test_each_cells_runs_are_ranked_alone_where_the_cells_together_overlap(self):
         # Two packings whose verdicts each one load separates (1.10–1.15 and 1.16–1.20 of their q_u),
@@ -270,12 +271,13 @@ class CornerStressTest(WorkflowTest):
             self.assertEqual((alone["highest_standing"], alone["lowest_falling"]), (high, low))
             self.assertTrue(alone["separates_every_run"])
         self.assertEqual(corner_stress.critical_loads(runs[:2])[1], {}, "one cell: nothing per cell")
-        self.assertIsNone(corner_stress.peak_over_strength({"peak_load": 0.27, "strength": None}))
 
     def test_a_critical_toe_load_separates_the_verdicts_or_is_said_not_to(self):
         rows = [{"toe_load": 0.26, "stands": True}, {"toe_load": 0.28, "stands": True},
                 {"toe_load": 0.29, "stands": False}, {"toe_load": 0.31, "stands": False}]
-        self.assertEqual(corner_stress.critical_load(rows, "toe_load"), (0.28, 0.29, True))
-        self.assertEqual(corner_stress.critical_load(rows + [{"toe_load": 0.30, "stands": True}], "toe_load"),
-                         (0.30, 0.29, False))
-        self.assertEqual(corner_stress.critical_load(rows[:2], "toe_load"), (0.28, None, True))
+        def critical(rows):
+            c = corner_stress.critical_load(rows, "toe_load")
+            return c["highest_standing"], c["lowest_falling"], c["separates_every_run"]
+        self.assertEqual(critical(rows), (0.28, 0.29, True))
+        self.assertEqual(critical(rows + [{"toe_load": 0.30, "stands": True}]), (0.30, 0.29, False))
+        self.assertEqual(critical(rows[:2]), (0.28, None, True))
