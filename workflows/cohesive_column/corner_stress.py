@@ -26,7 +26,8 @@ weight above it (a check of the column's equilibrium).
   standing_max / f and falling_min / f, f the twin's 2τ_max/(ρ g H0) there. Where every file gives
   its cell's unconfined strength (live_threshold.py --unconfined, since stop 82), the runs are also
   ranked by the corners' peak 2τ_max over their own cell's q_u, so that cells of other packing seeds,
-  which differ in strength, are judged together.
+  which differ in strength, are judged together; and where the runs are of several cells, each cell's
+  runs are also ranked alone (whether one load separates one packing's runs across grids).
 
   /usr/bin/python3 corner_stress.py OUT [--column 0.3 0.2 --ratios 6 12 24 48] [--floor-friction MU]
                                     [--threshold live_threshold.json ...]
