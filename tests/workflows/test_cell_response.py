@@ -4,6 +4,7 @@ same measured in pure and in simple shear (an isotropic packing), within a small
 under a held normal stress its faster shear flow is looser and more frictional. A bonded cell is
 stronger at its peak than once its bonds near the shear have broken, and its peak envelope has a
 cohesion."""
+import copy
 import csv
 import json
 import subprocess
@@ -34,7 +35,7 @@ class CellResponseTest(WorkflowTest):
         without its bonds. E and ν are the isotropic solid's from K and G, so E = 2G(1 + ν)."""
         cell = json.loads((WORKFLOWS / "demo" / "cell_soft_snow_125.json").read_text())
         cell["preparation"]["spheres"] = 64
-        unbonded = json.loads(json.dumps(cell))
+        unbonded = copy.deepcopy(cell)
         unbonded["effects"]["cohesion"] = False
         del unbonded["material"]["bond"]
         (self.out / "bonded.json").write_text(json.dumps(cell))

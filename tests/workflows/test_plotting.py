@@ -107,7 +107,6 @@ class StudyRunTest(WorkflowTest):
             resumed_run.join(stopped)
         self.assertEqual((stopped / "series.csv").read_text(), joined_series)
 
-
     def test_a_study_stopped_by_a_signal_leaves_its_run_checkpointed_and_unrecorded_and_resumes_it(self):
         # An end the block would take long to reach; the study is a Python process running
         # timed_scene_run, stopped by SIGTERM once mpm_solver has written rows.

@@ -184,11 +184,12 @@ def critical_loads(runs):
         group = [r for r in runs if r.get("floor_friction") == friction]
         ranked = dict(LOADS, **(STRENGTH_RATIO if all(r["peak_over_strength"] is not None for r in group) else {}))
         critical[floor_name(friction)] = {load: critical_load(group, load) for load in ranked}
-        cells = sorted({Path(r["cell"]).name for r in group})
-        if len(cells) > 1:
-            per_cell[floor_name(friction)] = {
-                cell: {load: critical_load([r for r in group if Path(r["cell"]).name == cell], load) for load in ranked}
-                for cell in cells}
+        by_cell = {}
+        for r in group:
+            by_cell.setdefault(Path(r["cell"]).name, []).append(r)
+        if len(by_cell) > 1:
+            per_cell[floor_name(friction)] = {cell: {load: critical_load(cell_runs, load) for load in ranked}
+                                              for cell, cell_runs in sorted(by_cell.items())}
     return critical, per_cell
 
 
