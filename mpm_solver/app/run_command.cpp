@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <limits>
 #include <optional>
@@ -177,18 +178,20 @@ nlohmann::json run_scene(const RunOptions& options) {
     }
     output_time += seconds_since(t0);
   };
-  bool at_rest = false;
+  bool at_rest = false, front_reached = false;
   const auto record = [&](double dt) {
     const TimeStepLimits limits = solver.time_step_limits();
-    double energy = measure_flow(solver.points()).kinetic_energy;
+    FlowMeasures flow = measure_flow(solver.points());
     on_root([&] {
-      energy = outputs->series.write(solver, dt, limits).kinetic_energy;
+      flow = outputs->series.write(solver, dt, limits);
       if (outputs->tracked) outputs->tracked->write(solver);
     });
-    run_record.kinetic_energy_peak = std::max(run_record.kinetic_energy_peak, energy);
+    run_record.kinetic_energy_peak = std::max(run_record.kinetic_energy_peak, flow.kinetic_energy);
     if (const auto& rest = scene.stop_at_rest)
       at_rest = solver.time() >= rest->not_before * (1 - 1e-12) &&
-                energy < rest->kinetic_energy_fraction * run_record.kinetic_energy_peak;
+                flow.kinetic_energy < rest->kinetic_energy_fraction * run_record.kinetic_energy_peak;
+    if (const auto& front = scene.stop_at_front)
+      front_reached = solver.time() >= front->not_before * (1 - 1e-12) && flow.front >= front->x;
   };
 
   const Clock::time_point loop_start = Clock::now();
@@ -206,7 +209,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   eta.record(0, solver.time() / scene.end_time);
   // A signal that reaches any rank stops all of them after the same step.
   const auto stop_requested = [&] { return ranks->any(options.stop && options.stop->load()); };
-  while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !stop_requested()) {
+  while (solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !front_reached && !stop_requested()) {
     // Land exactly on the next output, row or end time.
     const double horizon = std::min({snapshots_due.next_time(), rows.next_time(), scene.end_time});
     const double stable = solver.stable_time_step();
@@ -236,7 +239,7 @@ nlohmann::json run_scene(const RunOptions& options) {
   if (root && options.progress) std::fprintf(stderr, "\n");
   const double run_time = seconds_since(loop_start);
   // Checked once: a signal arriving after the loop ended does not make a finished run "interrupted".
-  const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12) && !at_rest;
+  const bool interrupted = solver.time() < scene.end_time * (1 - 1e-12) && !at_rest && !front_reached;
   write_restart();
   on_root([&] {
     if (audit_trail) io::write_audit_trail(options.out / io::kAuditTrailFile, audit_trail->trail());
@@ -257,8 +260,12 @@ nlohmann::json run_scene(const RunOptions& options) {
       {"wall_time", {{"total", seconds_since(start)}, {"setup", setup_time}, {"steps", run_time - output_time},
                      {"output", output_time}, {"phases", phases_json(solver.phase_times())}}},
       {"point_updates_per_second", run_time > 0 ? updates / run_time : 0.0},
+      // A study that resumes a stopped run adds its segments' CPU from here: the process that timed a
+      // stopped segment from outside is gone by then.
+      {"process_cpu_time", static_cast<double>(std::clock()) / CLOCKS_PER_SEC},
       {"interrupted", interrupted},
       {"at_rest", at_rest},
+      {"front_reached", front_reached},
       {"kinetic_energy_peak", run_record.kinetic_energy_peak},
       {"kinetic_energy_peak_since", run_record.kinetic_energy_peak_since},
       {"restart", restart.string()}};

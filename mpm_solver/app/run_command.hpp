@@ -37,10 +37,11 @@ struct RunOptions {
 
 // Returns the run summary (also written to OUT/summary.json; "restart" names the restart file,
 // "interrupted" tells whether the run stopped before its end time, "at_rest" whether the scene's
-// time.stop_at_rest ended it, "kinetic_energy_peak" the largest kinetic energy of a series row, this
-// segment and those it was resumed from, counted from "kinetic_energy_peak_since": 0, or the time a
-// run resumed from a restart file of an older build that kept no peak). Throws common::InputError for scene
-// errors and std::runtime_error when the run fails.
+// time.stop_at_rest ended it, "front_reached" whether time.stop_at_front did, "process_cpu_time" the
+// CPU seconds of all its threads that the process had used by then, "kinetic_energy_peak" the largest
+// kinetic energy of a series row, this segment and those it was resumed from, counted from
+// "kinetic_energy_peak_since": 0, or the time a run resumed from a restart file of an older build that
+// kept no peak). Throws common::InputError for scene errors and std::runtime_error when the run fails.
 nlohmann::json run_scene(const RunOptions& options);
 
 }  // namespace grainbank::mpm::app

@@ -176,12 +176,17 @@ Scene load_scene(const std::filesystem::path& file, int rank, int ranks) {
   Scene scene;
   const JsonNode time = root.at("time", "an object with end and output_interval");
   time.allow_only({"end", "output_interval", "series_interval", "max_time_step", "min_time_step", "cfl",
-                   "contact_factor", "stop_at_rest"});
+                   "contact_factor", "stop_at_rest", "stop_at_front"});
   scene.end_time = time.number("end", Range::positive());
   if (const auto rest = time.find("stop_at_rest")) {
     rest->allow_only({"kinetic_energy_fraction", "not_before"});
     scene.stop_at_rest = RestCriterion{rest->number("kinetic_energy_fraction", Range::between(0, 1, false, false)),
                                        rest->number_or("not_before", 0.0, Range::at_least(0))};
+  }
+  if (const auto front = time.find("stop_at_front")) {
+    front->allow_only({"x", "not_before"});
+    scene.stop_at_front = FrontCriterion{front->number("x", Range::any()),
+                                         front->number_or("not_before", 0.0, Range::at_least(0))};
   }
   scene.output_interval = time.number("output_interval", Range::positive());
   scene.series_interval = time.number_or("series_interval", scene.output_interval, Range::positive());

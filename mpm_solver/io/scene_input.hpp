@@ -22,10 +22,19 @@ struct RestCriterion {
   double not_before = 0;               // [s]: e.g. after a release, so that a settling phase does not count
 };
 
+// "stop_at_front": the run ends, as finished, at the first series row at or after `not_before` whose
+// front (the largest x of a point) has reached `x`: once a collapse has run that far, its verdict is in
+// and the rest of the watch would only cost.
+struct FrontCriterion {
+  double x = 0;           // [m]
+  double not_before = 0;  // [s]: e.g. the gate's opening, so that a column held by it cannot end the run
+};
+
 struct Scene {
   std::unique_ptr<Solver> solver;
   double end_time = 0;
   std::optional<RestCriterion> stop_at_rest;
+  std::optional<FrontCriterion> stop_at_front;
   // time.min_time_step [s]: a run whose stable step falls below it stops, naming the criterion and
   // the point that set it, with a restart written (0: off). A hundredfold fall is reported either way.
   double min_time_step = 0;

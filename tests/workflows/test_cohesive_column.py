@@ -70,6 +70,8 @@ class LiveThresholdTest(WorkflowTest):
         short, predicted = self.threshold(self.CELL, prediction, "--heights", f"{height:g}")
         self.assertEqual(predicted, "may stand")
         self.assertTrue(short["stands"], short)
+        self.assertFalse(short["front_reached"])
+        self.assertAlmostEqual(short["end"], short["planned_end"], places=9, msg="a column that stands is watched to the end")
         # The result carries the cell's strength, and without heights the study runs nothing and reports
         # its runs again against the prediction given.
         measured = json.loads(prediction.read_text())
@@ -90,6 +92,10 @@ class LiveThresholdTest(WorkflowTest):
         tall, predicted = self.threshold(weak_cell, weak_prediction, "--heights", "0.2")
         self.assertEqual(predicted, "must fall")
         self.assertFalse(tall["stands"], tall)
+        # Once its front has run twice the standing criterion, its verdict is in and the run ends there.
+        self.assertTrue(tall["front_reached"], tall)
+        self.assertLess(tall["end"], tall["planned_end"])
+        self.assertIn("falls (stopped once fallen)", (self.out / "live" / "live_threshold.md").read_text())
         self.assertGreater(tall["top_drop"], 0, "the top sinks as the column falls")
         self.assertIsNone(tall["nonlocal_length"])
 

@@ -78,9 +78,16 @@ class StudyRunTest(WorkflowTest):
         run([BUILD / "mpm_solver" / "mpm_solver", file, "--out", stopped, "--threads", "1", "--set", "/time/end=0.02"])
         self.assertEqual(resumed_run.newest_checkpoint(stopped), stopped / "restart.h5")
 
+        first_cpu_s = json.loads((stopped / "summary.json").read_text())["process_cpu_time"]
+        self.assertGreater(first_cpu_s, 0)
         result = run_compare.timed_scene_run(BUILD, file, stopped, 1)
         self.assertEqual(result["resumed_from"], "restart.h5")
         self.assertEqual(resumed_run.segments(stopped), [stopped / "resumed_1"])
+        # Its CPU is both segments': the first as its mpm_solver reported it, the second as timed.
+        cpu_s = json.loads((stopped / "summary.json").read_text())["segments_cpu_s"]
+        self.assertEqual(cpu_s[0], first_cpu_s)
+        self.assertGreaterEqual(result["cpu_s"], first_cpu_s + cpu_s[1] * 0.99)
+        self.assertNotIn("uncounted_segments", result)
         self.assertEqual((stopped / "series.csv").read_text(), (whole / "series.csv").read_text())
         tracked = (stopped / "tracked_points.csv").read_text()
         self.assertEqual(tracked, (whole / "tracked_points.csv").read_text())
@@ -95,6 +102,7 @@ class StudyRunTest(WorkflowTest):
         joined = (stopped / "points.pvd").read_text()
         resumed_run.join(stopped)
         self.assertEqual((stopped / "points.pvd").read_text(), joined, "joining again changes nothing")
+        self.assertEqual(json.loads((stopped / "summary.json").read_text())["segments_cpu_s"], cpu_s)
         self.assertEqual(run_compare.timed_scene_run(BUILD, file, stopped, 1), result, "a finished run is kept")
 
         # A segment written by a build whose series has other columns cannot be joined row by row: the
@@ -137,6 +145,7 @@ class StudyRunTest(WorkflowTest):
         result = run_compare.timed_scene_run(BUILD, file, folder, 1)
         self.assertEqual(result["resumed_from"], "restart.h5")
         self.assertEqual(result["failed"], "")
+        self.assertGreater(result["cpu_s"], summary["process_cpu_time"], "the stopped segment's CPU counts")
         t = tables.read_csv(folder / "series.csv")["t"]
         self.assertTrue((np.diff(t) > 0).all(), "one row per time across the seam")
         self.assertAlmostEqual(json.loads((folder / "summary.json").read_text())["final_time"], stopped_at + 0.02,

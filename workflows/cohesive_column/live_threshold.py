@@ -30,7 +30,10 @@ A run stands when its front (farthest point) has moved less than STANDING × L0 
 removal (the start of its release) and the end, the time the gate is gone plus WATCH √(H0/g) (at least
 MIN_WATCH s); a run that stopped
 before the end (its table row says why) has fallen if its front had moved that far, and gives no
-verdict otherwise.
+verdict otherwise. Once a column's front has run FALLEN × L0 (twice STANDING) from where it started,
+its verdict is in, and the run ends there (the scene's time.stop_at_front; "stopped once fallen" in
+the table): a falling column costs the time it takes to fall, not the whole watch (runs from before
+stop 89 watched to the end).
 
   /usr/bin/python3 live_threshold.py OUT [--strength STRENGTH.json] [--unconfined UNCONFINED.json]
                                      [--heights 0.05 0.1 0.15 0.2]
@@ -63,10 +66,12 @@ SCENE = HERE.parent / "demo" / "column.json"
 CELL = HERE.parent / "demo" / "cell_soft_snow_125.json"
 G = 9.81
 MIN_WATCH = 0.3  # [s] after the gate, at least
+FALLEN = 2 * STANDING  # × L0: a front that has run this far has fallen beyond doubt
 OUTCOME = {True: "stands", False: "falls", None: "stopped"}
 
 
-def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, floor_friction=None, release=None):
+def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, floor_friction=None, release=None,
+                    stop_past=None):
     """({JSON pointer: value} making the demo scene's column `height` × `width` on a grid of cell size
     `h`, `points_per_cell` points (cells) per grid cell and direction, with room for a runout of three
     times the larger of the two and a floor under all of it, the times the gate starts and ends letting
@@ -74,7 +79,8 @@ def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, f
     `floor_friction` (None: the scene's). The gate is removed at once at the scene's time, or with
     `release` [s] let go of over that long from it (its traction on the face falling linearly to zero,
     the obstacles' "release"). The grid's lines pass through the column's base and back wall, so that
-    its points sit whole cells' halves off them."""
+    its points sit whole cells' halves off them. With `stop_past` the run ends once its front has run
+    that many L0 beyond its first points after the gate has started to let go (time.stop_at_front)."""
     x0, y0 = scene["regions"][0]["rectangle"]["min"]
     gates = [k for k, o in enumerate(scene["obstacles"]) if "remove_at" in o]
     (floor,) = [k for k, o in enumerate(scene["obstacles"]) if "line" in o and all(y == y0 for _, y in o["line"])]
@@ -92,6 +98,9 @@ def column_settings(scene, height, width, h, nonlocal_length, points_per_cell, f
             f"/obstacles/{floor}/line": [[origin[0], y0], [origin[0] + cells[0] * h, y0]],
             f"/obstacles/{gates[0]}": gate,
             **({} if floor_friction is None else {f"/obstacles/{floor}/friction": floor_friction}),
+            **({} if stop_past is None else
+               {"/time/stop_at_front": {"x": face - h / (2 * points_per_cell) + stop_past * width,
+                                        "not_before": start}}),
             "/tracked_points": []}, start, start + (release or 0)
 
 
@@ -99,7 +108,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
                threads, release=None):
     """One live column of height `height` [m]; returns its row of the table."""
     settings, gate, let_go = column_settings(json.loads(SCENE.read_text()), height, width, h, nonlocal_length,
-                                             points_per_cell, floor_friction, release)
+                                             points_per_cell, floor_friction, release, stop_past=FALLEN)
     end = let_go + max(MIN_WATCH, watch * math.sqrt(height / G))
     settings["/time/end"] = end
     transfer_setting, transfer_suffix = scenes.transfer_settings(transfer)
@@ -118,6 +127,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
     snapshots = vtu.read_pvd(out / "runs" / name / "points.pvd")  # only the first and last are needed
     first, last = vtu.read_vtu(snapshots[0][1]).xy, vtu.read_vtu(snapshots[-1][1]).xy
     front = float(series["front"][-1] - series["front"][at_gate])
+    summary_file = out / "runs" / name / "summary.json"  # a run that failed may have written none
     row = {"cell": str(cell.resolve()), "height": height, "width": width, "cell_size": h,
            "nonlocal_length": nonlocal_length, "points_per_cell": points_per_cell, "floor_friction": floor_friction,
            "transfer": transfer, "release": release, "end": float(series["t"][-1]),
@@ -126,6 +136,7 @@ def run_height(build, out, cell, height, width, h, nonlocal_length, points_per_c
            # A run that stopped early (a cell too thin, a point thrown out) has fallen if its front had moved
            # by then, and is no verdict if it had not.
            "stands": False if front >= STANDING * width else (None if cost["failed"] else True),
+           "front_reached": summary_file.exists() and json.loads(summary_file.read_text()).get("front_reached", False),
            "cpu_s": cost["cpu_s"],
            "failed": cost["failed"]}
     (out / "runs" / name / "threshold_row.json").write_text(json.dumps(row) + "\n")
@@ -208,6 +219,10 @@ def verdicts_of(rows, critical):
             for name, value in critical.items()}
 
 
+def outcome(row):
+    return OUTCOME[row["stands"]] + (" (stopped once fallen)" if row.get("front_reached") else "")
+
+
 def report(rows, critical, verdicts, cell):
     """live_threshold.md: the runs against each prediction, then each prediction's verdict."""
     lines = [f"Cell {cell.name}. Critical heights (Chen's kinematic bound: above it a cut must fall, below it "
@@ -217,7 +232,7 @@ def report(rows, critical, verdicts, cell):
              + " | ".join(f"H_c = {value:.3f} m" for value in critical.values()) + " | CPU-s |",
              "|---|---|---|---|---|---|---|---|---|" + "---|" * len(critical) + "---|"]
     lines += [f"| {r['height']:g} | {r['width']:g} | {r['cell_size']:g} | {points_per_cell(r)} | {regularization(r)} | {r['end']:.3f} | "
-              f"{r['front']:.3f} | {r['top_drop']:.3f} | {OUTCOME[r['stands']]} | " + " | ".join(r["predicted"].values())
+              f"{r['front']:.3f} | {r['top_drop']:.3f} | {outcome(r)} | " + " | ".join(r["predicted"].values())
               + f" | {r['cpu_s']:.0f} |" + (f" stopped: {r['failed']}" if r["failed"] else "") for r in rows]
     lines.append("")
     for name, v in verdicts.items():
@@ -232,8 +247,12 @@ def report(rows, critical, verdicts, cell):
 
 def plot(rows, critical, out):
     fig, ax = plt.subplots(figsize=(6.5, 3.8))
-    ax.semilogy([r["height"] for r in rows], [max(r["front"], 1e-4) for r in rows], "o",
-                label="live DEM cells (a front below 1e-4 L0 drawn at 1e-4)")
+    for stopped, label in ((False, "live DEM cells (a front below 1e-4 L0 drawn at 1e-4)"),
+                           (True, f"the same, stopped once fallen ({FALLEN:g} L0)")):
+        group = [r for r in rows if bool(r.get("front_reached")) == stopped]
+        if group:
+            ax.semilogy([r["height"] for r in group], [max(r["front"], 1e-4) for r in group], "o",
+                        fillstyle="none" if stopped else "full", label=label)
     for (name, value), style in zip(critical.items(), ("--", ":", "-.")):
         ax.axvline(value, color="grey", linestyle=style, label=f"H_c, {name}")
     ax.axhline(STANDING, color="k", linewidth=0.6)
@@ -279,7 +298,7 @@ def main():
         row = run_height(args.build.resolve(), args.out, args.cell, height, args.width, args.cell_size,
                          args.nonlocal_length, args.points_per_cell, args.floor_friction, args.transfer, args.watch,
                          args.threads, args.release)
-        print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {OUTCOME[row['stands']]}, "
+        print(f"H0 = {height:g} m: front {row['front']:.3f} L0, {outcome(row)}, "
               f"{row['cpu_s']:.0f} CPU-s", flush=True)
     rows = finished_rows(args.out, args.cell)
     for row in rows:

@@ -8,7 +8,9 @@ from the newest checkpoint (the last segment's that has one). Once the last segm
 `join` makes FOLDER read as one run: its `series.csv`, `points.pvd` and `tracked_points.csv` become
 each segment's rows and snapshots up to the next segment's start, then the next segment's after it
 (the snapshot files stay in their segment's folder, named from the collection), and the last
-segment's `summary.json` is the run's, as mpm_solver wrote it for that segment. A run stopped at a
+segment's `summary.json` is the run's, as mpm_solver wrote it for that segment, with the CPU seconds each
+segment's mpm_solver reported (`segments_cpu_s`, None for one that reported none: killed outright, or
+an older build's). A run stopped at a
 checkpoint and resumed so reads to the byte as the same run never stopped. Joining again gives the
 same files, so a join that is itself stopped is simply done again. The cells of tracked points stay
 in each segment's `cells/` (collapse_figures reads a run's segments).
@@ -98,6 +100,18 @@ def _join_pvd(folder, parts, limits):
     _write_atomically(Path(folder) / "points.pvd", text)
 
 
+def _segments_cpu_s(folder, parts):
+    """Each part's CPU seconds as its mpm_solver reported them (None where it did not); the run's own
+    folder's from the joined summary that replaced its own, when it was joined before."""
+    found = []
+    for part in parts:
+        file = part / "summary.json"
+        summary = json.loads(file.read_text()) if file.exists() else {}
+        found.append(summary["segments_cpu_s"][0] if part == folder and "segments_cpu_s" in summary
+                     else summary.get("process_cpu_time"))
+    return found
+
+
 def join(folder):
     """Makes FOLDER, a run and its finished segments, read as one run (above). Nothing to do without
     segments."""
@@ -106,6 +120,7 @@ def join(folder):
     if not parts:
         return
     parts = [folder, *parts]
+    cpu_s = _segments_cpu_s(folder, parts)
     limits = _seam_limits(parts)
     _join_csv(folder, parts, limits, "series.csv")
     _join_csv(folder, parts, limits, "tracked_points.csv")
@@ -113,4 +128,5 @@ def join(folder):
     if (parts[-1] / "summary.json").exists():  # a segment that failed may have written none
         summary = json.loads((parts[-1] / "summary.json").read_text())
         summary["resumed_segments"] = [str(part.relative_to(folder)) for part in parts[1:]]
+        summary["segments_cpu_s"] = cpu_s
         _write_atomically(folder / "summary.json", json.dumps(summary, indent=2) + "\n")

@@ -1,9 +1,13 @@
-// time.stop_at_rest: a run ends once its kinetic energy has fallen below a fraction of its peak.
-// The case: an elastic block launched at v0 along a horizontal line with Coulomb friction μ. It
-// slides to rest at t_s = v0 / (μ g), its kinetic energy ½ M (v0 − μ g t)² falling below a fraction f
-// of its initial value only after t = (1 − √f) t_s; a resumed run keeps the peak of the run it
-// resumes and stops where the uninterrupted one does; one resumed from a restart file that kept no
-// peak (an older build's) counts its peak from the resumed time and says so in its summary.
+// The scene's stop criteria. The case: an elastic block launched at v0 along a horizontal line with
+// Coulomb friction μ, decelerating at μ g until it rests at t_s = v0 / (μ g).
+// - time.stop_at_rest: a run ends once its kinetic energy has fallen below a fraction of its peak. The
+//   block's kinetic energy ½ M (v0 − μ g t)² falls below a fraction f of its initial value only after
+//   t = (1 − √f) t_s; a resumed run keeps the peak of the run it resumes and stops where the
+//   uninterrupted one does; one resumed from a restart file that kept no peak (an older build's) counts
+//   its peak from the resumed time and says so in its summary.
+// - time.stop_at_front: a run ends once its front has reached x, not before a time t0. The block's
+//   front reaches x0 + s at t = (v0 − √(v0² − 2 μ g s)) / (μ g), and never if s exceeds its sliding
+//   distance v0² / (2 μ g); with t0 after that time the run ends at the first row from t0.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -125,6 +129,69 @@ TEST(StopAtRest, ItsKeysAreChecked) {
     try {
       io::load_scene(dir.write("bad.json", block_scene(kEnd, rest)));
       ADD_FAILURE() << "accepted " << rest;
+    } catch (const common::InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
+    }
+  }
+}
+
+// The block's front point at t = 0: the region's last points sit a quarter cell inside its face
+// (two points per cell of 0.025 m).
+constexpr double kFrontAtStart = 0.5 - 0.025 / 4;
+
+std::string front_stop(double x) { return R"(, "stop_at_front": {"x": )" + std::to_string(x) + "}"; }
+
+TEST(StopAtFront, ARunEndsAtTheFirstRowWhoseFrontHasReachedX) {
+  const TemporaryDirectory dir("gb_stop_at_front");
+  constexpr double kDistance = 0.1;
+  const nlohmann::json summary = run(dir, "block", block_scene(kEnd, front_stop(kFrontAtStart + kDistance)));
+  EXPECT_TRUE(summary["front_reached"].get<bool>());
+  EXPECT_FALSE(summary["at_rest"].get<bool>());
+  EXPECT_FALSE(summary["interrupted"].get<bool>());
+  const double deceleration = kFriction * kGravity;
+  const double reach_time = (kSpeed - std::sqrt(kSpeed * kSpeed - 2 * deceleration * kDistance)) / deceleration;
+  const double stop = summary["final_time"];
+  std::printf("stopped at t = %.4f s; the front reaches x0 + %.2f m at t = %.4f s\n", stop, kDistance, reach_time);
+  EXPECT_GE(stop, 0.95 * reach_time);
+  EXPECT_LE(stop, 1.05 * reach_time + 0.005);  // within a series row of it
+  const std::vector<double> front = csv_column(dir.path() / "block" / "series.csv", "front");
+  ASSERT_GE(front.size(), 2u);
+  EXPECT_GE(front.back(), kFrontAtStart + kDistance);
+  EXPECT_LT(front[front.size() - 2], kFrontAtStart + kDistance);  // the first such row, not a later one
+}
+
+TEST(StopAtFront, NotBeforeItsTime) {
+  const TemporaryDirectory dir("gb_stop_at_front_later");
+  constexpr double kNotBefore = 0.25;  // the front passed x0 + 0.1 m at 0.132 s
+  const nlohmann::json summary =
+      run(dir, "block", block_scene(kEnd, R"(, "stop_at_front": {"x": )" + std::to_string(kFrontAtStart + 0.1) +
+                                              R"(, "not_before": )" + std::to_string(kNotBefore) + "}"));
+  EXPECT_TRUE(summary["front_reached"].get<bool>());
+  EXPECT_NEAR(summary["final_time"].get<double>(), kNotBefore, 1e-9);
+}
+
+TEST(StopAtFront, AFrontThatNeverGetsThereRunsToTheEnd) {
+  const TemporaryDirectory dir("gb_stop_at_front_short");
+  const double sliding_distance = kSpeed * kSpeed / (2 * kFriction * kGravity);
+  constexpr double kEndAfterRest = 0.5;  // the block rests at 0.34 s
+  const nlohmann::json summary = run(dir, "block", block_scene(kEndAfterRest, front_stop(kFrontAtStart + 1.2 * sliding_distance)));
+  EXPECT_FALSE(summary["front_reached"].get<bool>());
+  EXPECT_FALSE(summary["interrupted"].get<bool>());
+  EXPECT_NEAR(summary["final_time"].get<double>(), kEndAfterRest, 1e-9);
+  const std::vector<double> front = csv_column(dir.path() / "block" / "series.csv", "front");
+  EXPECT_NEAR(front.back() - kFrontAtStart, sliding_distance, 0.1 * sliding_distance);
+}
+
+TEST(StopAtFront, ItsKeysAreChecked) {
+  const TemporaryDirectory dir("gb_stop_at_front_keys");
+  for (const auto& [stop, expected] :
+       {std::pair{R"(, "stop_at_front": {"front": 0.6})", "stop_at_front/front: unknown key"},
+        std::pair{R"(, "stop_at_front": {"x": "far"})", "stop_at_front/x"},
+        std::pair{R"(, "stop_at_front": {})", "stop_at_front/x"},
+        std::pair{R"(, "stop_at_front": {"x": 0.6, "not_before": -1})", "stop_at_front/not_before"}}) {
+    try {
+      io::load_scene(dir.write("bad.json", block_scene(kEnd, stop)));
+      ADD_FAILURE() << "accepted " << stop;
     } catch (const common::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
