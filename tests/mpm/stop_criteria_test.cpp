@@ -14,8 +14,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <initializer_list>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/json_input.hpp"
@@ -120,19 +122,24 @@ TEST(StopAtRest, ARunResumedFromAFileWithoutAPeakCountsItsPeakFromTheResumedTime
   EXPECT_EQ(again["kinetic_energy_peak_since"].get<double>(), first["final_time"].get<double>());
 }
 
-TEST(StopAtRest, ItsKeysAreChecked) {
-  const TemporaryDirectory dir("gb_stop_at_rest_keys");
-  for (const auto& [rest, expected] :
-       {std::pair{R"(, "stop_at_rest": {"kinetic_energy_fraction": 1.5})", "stop_at_rest/kinetic_energy_fraction"},
-        std::pair{R"(, "stop_at_rest": {"fraction": 0.001})", "stop_at_rest/fraction: unknown key"},
-        std::pair{R"(, "stop_at_rest": {"kinetic_energy_fraction": 0.001, "not_before": -1})", "not_before"}}) {
+// Each of `cases` (time keys, a part of the error expected) is refused with an error naming its key.
+void expect_refused(const std::string& folder, std::initializer_list<std::pair<const char*, const char*>> cases) {
+  const TemporaryDirectory dir(folder);
+  for (const auto& [keys, expected] : cases) {
     try {
-      io::load_scene(dir.write("bad.json", block_scene(kEnd, rest)));
-      ADD_FAILURE() << "accepted " << rest;
+      io::load_scene(dir.write("bad.json", block_scene(kEnd, keys)));
+      ADD_FAILURE() << "accepted " << keys;
     } catch (const common::InputError& e) {
       EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
     }
   }
+}
+
+TEST(StopAtRest, ItsKeysAreChecked) {
+  expect_refused("gb_stop_at_rest_keys",
+                 {{R"(, "stop_at_rest": {"kinetic_energy_fraction": 1.5})", "stop_at_rest/kinetic_energy_fraction"},
+                  {R"(, "stop_at_rest": {"fraction": 0.001})", "stop_at_rest/fraction: unknown key"},
+                  {R"(, "stop_at_rest": {"kinetic_energy_fraction": 0.001, "not_before": -1})", "not_before"}});
 }
 
 // The block's front point at t = 0: the region's last points sit a quarter cell inside its face
@@ -183,19 +190,11 @@ TEST(StopAtFront, AFrontThatNeverGetsThereRunsToTheEnd) {
 }
 
 TEST(StopAtFront, ItsKeysAreChecked) {
-  const TemporaryDirectory dir("gb_stop_at_front_keys");
-  for (const auto& [stop, expected] :
-       {std::pair{R"(, "stop_at_front": {"front": 0.6})", "stop_at_front/front: unknown key"},
-        std::pair{R"(, "stop_at_front": {"x": "far"})", "stop_at_front/x"},
-        std::pair{R"(, "stop_at_front": {})", "stop_at_front/x"},
-        std::pair{R"(, "stop_at_front": {"x": 0.6, "not_before": -1})", "stop_at_front/not_before"}}) {
-    try {
-      io::load_scene(dir.write("bad.json", block_scene(kEnd, stop)));
-      ADD_FAILURE() << "accepted " << stop;
-    } catch (const common::InputError& e) {
-      EXPECT_NE(std::string(e.what()).find(expected), std::string::npos) << e.what();
-    }
-  }
+  expect_refused("gb_stop_at_front_keys",
+                 {{R"(, "stop_at_front": {"front": 0.6})", "stop_at_front/front: unknown key"},
+                  {R"(, "stop_at_front": {"x": "far"})", "stop_at_front/x"},
+                  {R"(, "stop_at_front": {})", "stop_at_front/x"},
+                  {R"(, "stop_at_front": {"x": 0.6, "not_before": -1})", "stop_at_front/not_before"}});
 }
 
 }  // namespace
