@@ -113,12 +113,12 @@ def _segments_cpu_s(folder, parts):
 
 
 def join(folder):
-    """Makes FOLDER, a run and its finished segments, read as one run (above). Nothing to do without
-    segments."""
+    """Makes FOLDER, a run and its finished segments, read as one run (above), and returns the joined
+    summary (None when the last segment wrote none). Nothing to do without segments."""
     folder = Path(folder)
     parts = segments(folder)
     if not parts:
-        return
+        return None
     parts = [folder, *parts]
     cpu_s = _segments_cpu_s(folder, parts)
     limits = _seam_limits(parts)
@@ -130,3 +130,5 @@ def join(folder):
         summary["resumed_segments"] = [str(part.relative_to(folder)) for part in parts[1:]]
         summary["segments_cpu_s"] = cpu_s
         _write_atomically(folder / "summary.json", json.dumps(summary, indent=2) + "\n")
+        return summary
+    return None

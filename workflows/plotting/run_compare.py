@@ -22,8 +22,8 @@ def timed_scene_run(build, scene_file, folder, threads):
     {wall_s, cpu_s, failed}. A run that was stopped before it finished goes on from its last
     checkpoint (plotting/resumed_run.py); then `resumed_from` names the checkpoint, wall_s is of its
     last segment, and cpu_s adds the earlier segments' CPU as their mpm_solver reported it, naming
-    in `uncounted_segments` those that reported none (killed outright, or an older build's). A run that stops (e.g. a point thrown out of the grid) is a
-    result too: its error message is kept and its outputs up to the stop are compared; not so a run
+    in `uncounted_segments` those that reported none (killed outright, or an older build's). A run
+    that stops (e.g. a point thrown out of the grid) is a result too: its error message is kept and its outputs up to the stop are compared; not so a run
     stopped by a signal (RuntimeError, nothing recorded: the study's next run resumes it). A run that
     stops before its first output (a scene mpm_solver rejects) has nothing to compare: RuntimeError
     with its error, and nothing is recorded, so that the study runs it again once the scene is
@@ -42,15 +42,15 @@ def timed_scene_run(build, scene_file, folder, threads):
         raise RuntimeError(f"{scene_file}: {error}; run the study again to resume it")
     result = {"wall_s": wall, "cpu_s": cpu, "failed": error or ""}
     if checkpoint:
-        resumed_run.join(folder)
+        joined = resumed_run.join(folder)
         result["resumed_from"] = str(checkpoint.relative_to(folder))
         # The stopped segments' CPU died with the process that timed them; their mpm_solver reported it.
-        joined = json.loads((folder / "summary.json").read_text()) if (folder / "summary.json").exists() else {}
-        if "segments_cpu_s" in joined:  # not when the last segment failed before writing its summary
+        if joined:  # not when the last segment failed before writing its summary
             earlier = list(zip([".", *joined["resumed_segments"]], joined["segments_cpu_s"]))[:-1]
             result["cpu_s"] += sum(cpu for _, cpu in earlier if cpu is not None)
-            if any(cpu is None for _, cpu in earlier):
-                result["uncounted_segments"] = [name for name, cpu in earlier if cpu is None]
+            uncounted = [name for name, cpu in earlier if cpu is None]
+            if uncounted:
+                result["uncounted_segments"] = uncounted
     (folder / "study_run.json").write_text(json.dumps(result) + "\n")
     return result
 
