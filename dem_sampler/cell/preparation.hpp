@@ -1,6 +1,7 @@
 // Cell preparation (DESIGN.md, "Preparation"): polydisperse random gas -> isotropic compression under
 // stress control to p_0 (friction may be lowered to control density) -> relaxation -> bonding of
-// close pairs -> relaxation. Fully determined by the spec, including its seed.
+// close pairs -> relaxation -> a check that the template, left alone without the preparation's
+// damping and servo, stays in equilibrium. Fully determined by the spec, including its seed.
 #pragma once
 #include <cstdint>
 #include <functional>
@@ -24,6 +25,11 @@ struct PreparationSpec {
   double skin = 0.1;                          // Verlet skin as a fraction of the mean diameter
   std::uint64_t seed = 1;
   long max_steps = 5'000'000;                 // per stage
+  // The equilibrium check: the template is held at fixed volume, undamped, for equilibrium_hold
+  // inertial times d sqrt(ρ/p_0) and refused if its pressure moves by more than equilibrium_drift p_0.
+  // Neither changes the cell, so neither is part of a template's identity.
+  double equilibrium_hold = 20;
+  double equilibrium_drift = 0.05;
 };
 
 struct PreparationReport {
@@ -37,9 +43,15 @@ struct PreparationReport {
 using PreparationObserver = std::function<void(const std::string& stage, long step, const CellMeasures&)>;
 
 // Throws std::invalid_argument for an inconsistent spec and std::runtime_error (with the stage, the
-// quantity and what to change) when a stage does not converge within max_steps.
+// quantity and what to change) when a stage does not converge within max_steps or the template is
+// not in equilibrium once left alone.
 DemCell prepare_cell(const Material& material, const PreparationSpec& spec, PreparationReport* report = nullptr,
                      const PreparationObserver& observer = {});
+
+// The largest change of the cell's pressure, over p_ref, while a copy of it is held at fixed volume
+// (L = 0, no damping) for `duration` seconds, in steps of Q_t (seed Eq. 3). A packing that only the
+// preparation's damping and servo held up collapses here.
+double pressure_drift_at_rest(const DemCell& cell, double duration, double q_t, double p_ref);
 
 // The random gas alone (for tests and for packings made elsewhere): cubic cell, no overlaps.
 DemCell random_gas(const Material& material, const PreparationSpec& spec);

@@ -85,7 +85,7 @@ dem::Material read_material(const JsonNode& root) {
 dem::PreparationSpec read_preparation(const JsonNode& node) {
   node.allow_only({"spheres", "diameter", "pressure", "seed", "initial_solid_fraction", "compression_friction",
                    "pressure_tolerance", "unbalanced_force_tolerance", "inertial_number", "local_damping", "q_t",
-                   "skin", "max_steps"});
+                   "skin", "max_steps", "equilibrium_hold", "equilibrium_drift"});
   dem::PreparationSpec s;
   s.spheres = static_cast<std::size_t>(node.at("spheres", "an integer >= 2").integer(2, 10'000'000));
   const JsonNode diameter = node.at("diameter", "an object {min, max} [m]");
@@ -104,6 +104,8 @@ dem::PreparationSpec read_preparation(const JsonNode& node) {
   s.q_t = node.number_or("q_t", s.q_t, Range::between(0, dem::kMaxTimeStepFactor, true, false));
   s.skin = node.number_or("skin", s.skin, Range::between(0, 1, true, false));
   s.max_steps = static_cast<long>(node.integer_or("max_steps", s.max_steps, 1));
+  s.equilibrium_hold = node.number_or("equilibrium_hold", s.equilibrium_hold, kNonNegative);
+  s.equilibrium_drift = node.number_or("equilibrium_drift", s.equilibrium_drift, kPositive);
   return s;
 }
 

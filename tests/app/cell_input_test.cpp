@@ -68,6 +68,8 @@ INSTANTIATE_TEST_SUITE_P(
                   {"/preparation/spheres: expected an integer in [2, 10000000], got 12.5"}},
         ErrorCase{"DiameterMaxBelowMin", with(kGoodCell, "/preparation/diameter/max", 1e-4),
                   {"/preparation/diameter/max: expected a number >= 0.00034, got 0.0001"}},
+        ErrorCase{"EquilibriumDriftNotPositive", with(kGoodCell, "/preparation/equilibrium_drift", 0),
+                  {"/preparation/equilibrium_drift: expected a positive number, got 0"}},
         ErrorCase{"PreparationAndPacking", with(kGoodCell, "/packing", "p.csv"), {"/packing: give either"}},
         ErrorCase{"NoCellSource", without(kGoodCell, "/preparation"), {"/preparation: required field missing"}},
         ErrorCase{"SkinOutsidePacking", with(kGoodCell, "/skin", 0.1), {"/skin: only used with /packing"}},
@@ -96,6 +98,7 @@ TEST(CellInput, GoodFileReadsBackWithDefaults) {
   EXPECT_EQ(in.preparation->seed, 7u);
   EXPECT_EQ(in.preparation->inertial_number, 0.01);
   EXPECT_EQ(in.preparation->local_damping, dem::PreparationSpec{}.local_damping);
+  EXPECT_EQ(in.preparation->equilibrium_hold, dem::PreparationSpec{}.equilibrium_hold);
 }
 
 TEST(CellInput, PackingFileIsRelativeToTheJsonFolderAndBonded) {

@@ -77,9 +77,14 @@ TEST(EnergyBalance, ElasticFrictionlessUndampedCellStoresExactlyTheWorkOfItsDefo
   // trajectories are chaotic and differ with the step, so one packing's residuals need not shrink
   // (over packing seeds 31-38 the full-to-quarter-step ratio ranged from 1.3 to 65); the order is
   // judged on the median over five packings: second order gives 16, first order 4.
+  // Without dissipation the packing never comes to rest once the preparation's damping is off, so the
+  // preparation's equilibrium check is off: only the work balance from this state is tested.
+  PreparationSpec spec = small_spec(64, 0);
+  spec.equilibrium_hold = 0;
   std::vector<double> ratios;
   for (std::uint64_t seed : {31, 32, 33, 34, 35}) {
-    const DemCell prepared = prepare_cell(mat, small_spec(64, seed));
+    spec.seed = seed;
+    const DemCell prepared = prepare_cell(mat, spec);
     double residual[3];
     for (int k = 0; k < 3; ++k) {
       const int refine = 1 << k;

@@ -276,12 +276,14 @@ TEST(Objectivity, RigidRotationOfLoadedCellRotatesItsStress) {
 
 TEST(Objectivity, RigidRotationOfFrictionlessCellRotatesItsStress) {
   // As above without friction: no tangential history is involved, so σ' = R σ Rᵀ must hold tightly.
-  // (A small frictionless cell prepared to p_0 can be unjammed at fixed volume: it is compressed by
-  // 1% first so that it is surely jammed (Z > 6), then loaded axially for anisotropy.)
+  // (A small frictionless cell prepared to p_0 can be unjammed at fixed volume, so the preparation's
+  // equilibrium check would refuse it: it is compressed by 1% first so that it is surely jammed
+  // (Z > 6), then loaded axially for anisotropy.)
   Material mat = small_material();
   mat.contact.friction = 0;
   PreparationSpec spec = small_spec(125, 3);
   spec.compression_friction = 0;
+  spec.equilibrium_hold = 0;
   DemCell loaded = prepare_cell(mat, spec);
   Substepping q;
   const double duration = 5e-5;

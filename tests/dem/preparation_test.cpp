@@ -32,6 +32,51 @@ TEST(Preparation, ReachesTargetPressureInEquilibrium) {
   EXPECT_LT(m.kinetic_energy, 1e-3 * static_cast<double>(cell.size()) * spec.pressure * 1e-9);
 }
 
+// The equilibrium check's hold in seconds: equilibrium_hold inertial times d sqrt(ρ/p_0).
+double equilibrium_hold_seconds(const Material& mat, const PreparationSpec& spec) {
+  return spec.equilibrium_hold * 0.5 * (spec.min_diameter + spec.max_diameter) * std::sqrt(mat.density / spec.pressure);
+}
+
+// The template is promised to be in equilibrium without the preparation's damping and servo: stepped
+// alone at fixed volume for the check's hold, its pressure stays near p_0.
+TEST(Preparation, TemplateLeftAloneHoldsItsPressure) {
+  const Material mat = small_material();
+  const PreparationSpec spec = small_spec(100, 22);
+  DemCell cell = prepare_cell(mat, spec);
+  const double hold = equilibrium_hold_seconds(mat, spec);
+  const double dt = cell.time_step(spec.q_t);
+  for (double t = 0; t < hold; t += dt) cell.step_with_velocity_gradient(Mat3::Zero(), dt);
+  EXPECT_NEAR(pressure_of(cell.measures().stress), spec.pressure,
+              (spec.pressure_tolerance + spec.equilibrium_drift) * spec.pressure);
+}
+
+// Frictionless spheres need Z = 6 contacts each to be rigid (isostatic counting); a packing jammed
+// with friction has fewer, so with its friction taken away it must collapse, and the check sees it.
+TEST(Preparation, CheckSeesAHypostaticPackingCollapse) {
+  const Material mat = small_material();
+  PreparationSpec spec = small_spec(100, 23);
+  spec.compression_friction = mat.contact.friction;  // jammed loose
+  spec.equilibrium_hold = 0;                         // the check off: the loose template as prepared
+  DemCell cell = prepare_cell(mat, spec);
+  ASSERT_LT(cell.measures().coordination, 5.5);
+  cell.set_friction(0);
+  spec.equilibrium_hold = PreparationSpec{}.equilibrium_hold;
+  EXPECT_GT(pressure_drift_at_rest(cell, equilibrium_hold_seconds(mat, spec), spec.q_t, spec.pressure), 0.3);
+}
+
+TEST(Preparation, RefusesATemplateThatDriftsAtRestNamingTheField) {
+  PreparationSpec spec = small_spec(60, 24);
+  spec.equilibrium_drift = 1e-9;  // any real packing moves more than this as its last imbalance rings out
+  try {
+    prepare_cell(small_material(), spec);
+    ADD_FAILURE() << "expected the equilibrium check to refuse the template";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("not in equilibrium"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("preparation.equilibrium_drift: expected at most"), std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Preparation, RadiiFollowRequestedUniformDiameterRange) {
   const Material mat = small_material();
   const PreparationSpec spec = small_spec(125, 22);

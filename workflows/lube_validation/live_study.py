@@ -71,7 +71,7 @@ def cell_elasticity():
     """(E, ν, φ) of the dense cell at 1 kPa, seed means of the committed moduli study."""
     with (CELL_RESULTS / "moduli.csv").open() as f:
         rows = [r for r in csv.DictReader(f) if r["preparation"] == "dense" and float(r["pressure"]) == 1000
-                and r.get("stable", "True") == "True"]  # a packing not in equilibrium has no moduli (moduli.py)
+                and not r.get("refused")]  # a packing not in equilibrium has no moduli (moduli.py)
     k = statistics.mean(float(r["K"]) for r in rows)
     g = statistics.mean(float(r["G_pure_shear"]) for r in rows)
     return (*moduli.young_and_poisson(k, g), statistics.mean(float(r["phi"]) for r in rows))
