@@ -94,7 +94,7 @@ void require_equilibrium(const DemCell& prepared, const Material& material, cons
       << " s (preparation.equilibrium_hold = " << spec.equilibrium_hold << " inertial times), its pressure moved by "
       << 100 * drift << " % of p_0 = " << spec.pressure << " Pa (preparation.equilibrium_drift: expected at most "
       << 100 * spec.equilibrium_drift
-      << " %). The preparation's damping held it up. Prepare it denser (a lower preparation.compression_friction) "
+      << " %): the preparation's damping and servo held it up. Prepare it denser (a lower preparation.compression_friction) "
          "or at a higher preparation.pressure, or another preparation.seed.";
   throw std::runtime_error(msg.str());
 }
