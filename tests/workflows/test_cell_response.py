@@ -49,6 +49,20 @@ class CellResponseTest(WorkflowTest):
         self.assertIn("| 0.3 ± 0.14 |", text, "G over the two cells in equilibrium: 0.2 and 0.4 MPa")
         self.assertIn("Left out: loose, p0 = 1000 Pa, seed 2: preparation: the packing is not in equilibrium", text)
 
+    def test_a_cell_dem_sampler_refuses_is_named_not_measured(self):
+        """A real refusal: the preparation's equilibrium check, set tighter than any packing can hold
+        (1e-9 of p0), refuses the cell, and the study names it instead of stopping."""
+        cell = moduli.cell_spec(1, 1000, 64, "dense")
+        cell["preparation"]["equilibrium_drift"] = 1e-9
+        (self.out / "tight.json").write_text(json.dumps(cell))
+        run(["/usr/bin/python3", WORKFLOWS / "cell_response" / "moduli.py", self.out / "study", "--build", BUILD,
+             "--cells", self.out / "tight.json"])
+        with (self.out / "study" / "moduli.csv").open() as f:
+            rows = list(csv.DictReader(f))
+        self.assertIn("preparation.equilibrium_drift", rows[0]["refused"])
+        self.assertEqual(rows[0]["K"], "", "no modulus read from a refused cell")
+        self.assertIn("Left out: tight, p0 = 1000 Pa, seed 1: ", (self.out / "study" / "moduli.md").read_text())
+
     def test_moduli_of_a_bonded_cell_as_it_stands(self):
         """Bonds are springs in parallel with the contacts: the same packing bonded is stiffer than
         without its bonds. E and ν are the isotropic solid's from K and G, so E = 2G(1 + ν)."""

@@ -50,6 +50,10 @@ LOADING, HOLD = 1e-3, 1e-3  # [s]
 # did, stop 89); such a cell is named and left out of the means. The others drift by at most 1.7 %
 # (loose, 1 kPa), most of it in the first 2e-4 s and the same in every run, which the rest run takes out.
 NOT_IN_EQUILIBRIUM = "not in equilibrium"  # in dem_sampler's refusal
+# moduli.csv's columns, whichever cells were refused (a refused cell's row leaves the moduli empty).
+COLUMNS = ["preparation", "seed", "pressure", "spheres", "phi", "Z", "K", "G_compression", "G_pure_shear",
+           "G_simple_shear", "K_voigt", "G_voigt", "young", "poisson", "rest_drift", "refused", "K_ratio", "G_ratio",
+           "G_isotropy"]
 
 # In-plane strain directions (unit strain); the moduli from the stress change per unit strain.
 LOADS = {
@@ -190,7 +194,7 @@ def main():
                 for preparation in args.preparations for pressure in args.pressures for seed in args.seeds]
     text = table(rows)
     with (args.out / "moduli.csv").open("w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=list(max(rows, key=len)), restval="")
+        writer = csv.DictWriter(f, fieldnames=COLUMNS, restval="")
         writer.writeheader()
         writer.writerows(rows)
     (args.out / "moduli.md").write_text(text)
