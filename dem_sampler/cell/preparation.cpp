@@ -83,10 +83,9 @@ long settle_at_pressure(DemCell& cell, const Material& material, const Preparati
 // A loosely jammed packing, its frictional contacts near sliding, can pass the relaxation's test with
 // the damping on and collapse once it is off: a 125-sphere cell compressed at μ = 0.5 to 1 kPa lost
 // 53 % of its pressure within 2e-3 s of being left alone (stop 89), and every modulus or path read
-// from it would be its collapse. The inertial time d sqrt(ρ/p_0) sets how fast such a collapse runs.
+// from it would be its collapse.
 void require_equilibrium(const DemCell& prepared, const Material& material, const PreparationSpec& spec) {
-  const double inertial_time = mean_diameter(spec) * std::sqrt(material.density / spec.pressure);
-  const double hold = spec.equilibrium_hold * inertial_time;
+  const double hold = equilibrium_hold_seconds(material, spec);
   const double drift = pressure_drift_at_rest(prepared, hold, spec.q_t, spec.pressure);
   if (drift <= spec.equilibrium_drift) return;
   std::ostringstream msg;
@@ -100,6 +99,10 @@ void require_equilibrium(const DemCell& prepared, const Material& material, cons
 }
 
 }  // namespace
+
+double equilibrium_hold_seconds(const Material& material, const PreparationSpec& spec) {
+  return spec.equilibrium_hold * mean_diameter(spec) * std::sqrt(material.density / spec.pressure);
+}
 
 double pressure_drift_at_rest(const DemCell& cell, double duration, double q_t, double p_ref) {
   DemCell held(cell.state(), cell.material(), cell.skin());

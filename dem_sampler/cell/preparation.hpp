@@ -48,6 +48,10 @@ using PreparationObserver = std::function<void(const std::string& stage, long st
 DemCell prepare_cell(const Material& material, const PreparationSpec& spec, PreparationReport* report = nullptr,
                      const PreparationObserver& observer = {});
 
+// The equilibrium check's hold in seconds: spec.equilibrium_hold inertial times d̄ sqrt(ρ/p_0), the
+// time scale on which a packing held up only by damping collapses.
+double equilibrium_hold_seconds(const Material& material, const PreparationSpec& spec);
+
 // The largest change of the cell's pressure, over p_ref, while a copy of it is held at fixed volume
 // (L = 0, no damping) for `duration` seconds, in steps of Q_t (seed Eq. 3). A packing that only the
 // preparation's damping and servo held up collapses here.

@@ -32,11 +32,6 @@ TEST(Preparation, ReachesTargetPressureInEquilibrium) {
   EXPECT_LT(m.kinetic_energy, 1e-3 * static_cast<double>(cell.size()) * spec.pressure * 1e-9);
 }
 
-// The equilibrium check's hold in seconds: equilibrium_hold inertial times d sqrt(ρ/p_0).
-double equilibrium_hold_seconds(const Material& mat, const PreparationSpec& spec) {
-  return spec.equilibrium_hold * 0.5 * (spec.min_diameter + spec.max_diameter) * std::sqrt(mat.density / spec.pressure);
-}
-
 // The template is promised to be in equilibrium without the preparation's damping and servo: stepped
 // alone at fixed volume for the check's hold, its pressure stays near p_0.
 TEST(Preparation, TemplateLeftAloneHoldsItsPressure) {
@@ -56,12 +51,12 @@ TEST(Preparation, CheckSeesAHypostaticPackingCollapse) {
   const Material mat = small_material();
   PreparationSpec spec = small_spec(100, 23);
   spec.compression_friction = mat.contact.friction;  // jammed loose
+  const double hold = equilibrium_hold_seconds(mat, spec);
   spec.equilibrium_hold = 0;                         // the check off: the loose template as prepared
   DemCell cell = prepare_cell(mat, spec);
   ASSERT_LT(cell.measures().coordination, 5.5);
   cell.set_friction(0);
-  spec.equilibrium_hold = PreparationSpec{}.equilibrium_hold;
-  EXPECT_GT(pressure_drift_at_rest(cell, equilibrium_hold_seconds(mat, spec), spec.q_t, spec.pressure), 0.3);
+  EXPECT_GT(pressure_drift_at_rest(cell, hold, spec.q_t, spec.pressure), 0.3);
 }
 
 TEST(Preparation, RefusesATemplateThatDriftsAtRestNamingTheField) {
